@@ -1,0 +1,32 @@
+// uwscan: underwater optical 3D scanning. Exit status: 0 success, 2 usage
+// error, 1 bad input or runtime failure ("uwscan: error: ..." on stderr).
+#include <iostream>
+
+#include "commands.h"
+#include "uwscan/util/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"uwscan: underwater optical 3D scanning with flat-port cameras and line lasers"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "uwscan 0.1.0");
+  uwscan::cli::RegisterCameraCommands(app);
+  uwscan::cli::RegisterAnalyzeCommands(app);
+  uwscan::cli::RegisterBenchCommands(app);
+  uwscan::cli::RegisterDemoCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const uwscan::UsageError& e) {
+    std::cerr << "uwscan: usage error: " << e.what() << "\n";
+    return 2;
+  } catch (const uwscan::Error& e) {
+    std::cerr << "uwscan: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "uwscan: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

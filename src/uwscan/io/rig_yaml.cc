@@ -1,0 +1,255 @@
+#include "uwscan/io/rig_yaml.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "uwscan/util/atomic_file.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+constexpr const char* kFormat = "uwscan-rig/1";
+
+// A mapping whose keys are checked: every key must be known and read.
+class Map {
+ public:
+  Map(const YAML::Node& node, std::string where, std::string source)
+      : node_(node), where_(std::move(where)), source_(std::move(source)) {
+    UWS_CHECK(node_.IsMap(), source_, ": ", Name(""), " must be a mapping");
+  }
+
+  std::string Name(const std::string& key) const {
+    if (where_.empty()) return key;
+    return key.empty() ? where_ : where_ + "." + key;
+  }
+
+  YAML::Node Get(const std::string& key) {
+    seen_.insert(key);
+    const YAML::Node value = node_[key];
+    UWS_CHECK(value.IsDefined() && !value.IsNull(), source_, ": missing key '", Name(key), "'");
+    return value;
+  }
+  bool Has(const std::string& key) const { return node_[key].IsDefined(); }
+
+  double Number(const std::string& key) { return ToNumber(Get(key), Name(key)); }
+  int Integer(const std::string& key) {
+    const double value = Number(key);
+    UWS_CHECK(value == std::floor(value) && std::abs(value) < 1e9, source_, ": '", Name(key),
+              "' must be an integer");
+    return static_cast<int>(value);
+  }
+  std::string String(const std::string& key) {
+    const YAML::Node value = Get(key);
+    UWS_CHECK(value.IsScalar(), source_, ": '", Name(key), "' must be a scalar");
+    return value.Scalar();
+  }
+  template <size_t N>
+  std::array<double, N> Vector(const std::string& key) {
+    const YAML::Node value = Get(key);
+    UWS_CHECK(value.IsSequence() && value.size() == N, source_, ": '", Name(key), "' must be a list of ",
+              N, " numbers");
+    std::array<double, N> result;
+    for (size_t i = 0; i < N; ++i) {
+      result[i] = ToNumber(value[i], Name(key) + "[" + std::to_string(i) + "]");
+    }
+    return result;
+  }
+
+  // Throws on the first key that was never asked for.
+  void CheckNoUnknownKeys() const {
+    for (const auto& entry : node_) {
+      const std::string key = entry.first.as<std::string>();
+      UWS_CHECK(seen_.count(key), source_, ": unknown key '", Name(key), "'");
+    }
+  }
+
+  double ToNumber(const YAML::Node& value, const std::string& name) const {
+    UWS_CHECK(value.IsScalar(), source_, ": '", name, "' must be a number");
+    const std::string& text = value.Scalar();
+    double number = 0.0;
+    const auto result = std::from_chars(text.data(), text.data() + text.size(), number);
+    UWS_CHECK(result.ec == std::errc() && result.ptr == text.data() + text.size(), source_, ": '",
+              name, "' must be a number (got '", text, "')");
+    UWS_CHECK(std::isfinite(number), source_, ": '", name, "' must be finite (got '", text, "')");
+    return number;
+  }
+
+  const std::string& source() const { return source_; }
+
+ private:
+  YAML::Node node_;
+  std::string where_;
+  std::string source_;
+  std::set<std::string> seen_;
+};
+
+Rigid3d ReadPose(Map& parent, const std::string& key) {
+  Map pose(parent.Get(key), parent.Name(key), parent.source());
+  const auto q = pose.Vector<4>("q");
+  const auto t = pose.Vector<3>("t");
+  pose.CheckNoUnknownKeys();
+  const Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
+  const double norm = rotation.norm();
+  UWS_CHECK(std::abs(norm - 1.0) < 1e-3, parent.source(), ": '", pose.Name("q"),
+            "' must be a unit quaternion w x y z (norm ", norm, ")");
+  return Rigid3d(rotation, Eigen::Vector3d(t[0], t[1], t[2]));
+}
+
+Camera ReadCamera(const YAML::Node& node, const std::string& where, const std::string& source) {
+  Map map(node, where, source);
+  Camera camera;
+  camera.name = map.String("name");
+  camera.width = map.Integer("width");
+  camera.height = map.Integer("height");
+  camera.bayer = map.String("bayer");
+  const std::string model = map.String("model");
+  const auto model_id = CameraModelFromName(model);
+  UWS_CHECK(model_id.has_value(), source, ": '", map.Name("model"),
+            "' must be pinhole or flatport (got '", model, "')");
+  camera.model = *model_id;
+  camera.intrinsics = {map.Number("fx"), map.Number("fy"), map.Number("cx"), map.Number("cy")};
+  camera.distortion = map.Vector<5>("distortion");
+  if (camera.IsFlatPort()) {
+    Map port(map.Get("port"), map.Name("port"), source);
+    const auto normal = port.Vector<3>("normal");
+    camera.port.normal = Eigen::Vector3d(normal[0], normal[1], normal[2]);
+    camera.port.d_air = port.Number("d_air");
+    camera.port.d_glass = port.Number("d_glass");
+    camera.port.n_air = port.Number("n_air");
+    camera.port.n_glass = port.Number("n_glass");
+    camera.port.n_water = port.Number("n_water");
+    port.CheckNoUnknownKeys();
+  } else {
+    UWS_CHECK(!map.Has("port"), source, ": '", map.Name("port"),
+              "' is only allowed with model: flatport");
+  }
+  camera.rig_from_camera = ReadPose(map, "rig_from_camera");
+  map.CheckNoUnknownKeys();
+  camera.Check(source + ": " + where);
+  return camera;
+}
+
+LineProjector ReadLaser(const YAML::Node& node, const std::string& where, const std::string& source) {
+  Map map(node, where, source);
+  LineProjector laser;
+  laser.name = map.String("name");
+  laser.camera_from_laser = ReadPose(map, "camera_from_laser");
+  laser.p1 = map.Number("p1");
+  laser.wavelength_nm = map.Number("wavelength_nm");
+  map.CheckNoUnknownKeys();
+  laser.Check(source + ": " + where);
+  return laser;
+}
+
+std::string Num(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+template <typename Container>
+std::string List(const Container& values) {
+  std::string out = "[";
+  bool first = true;
+  for (double v : values) {
+    out += (first ? "" : ", ") + Num(v);
+    first = false;
+  }
+  return out + "]";
+}
+
+std::string Pose(const Rigid3d& pose) {
+  const auto& q = pose.rotation;
+  return "{q: " + List(std::array<double, 4>{q.w(), q.x(), q.y(), q.z()}) +
+         ", t: " + List(pose.translation) + "}";
+}
+
+}  // namespace
+
+Rig ParseRigYaml(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    UWS_THROW(source, ": not valid YAML: ", e.what());
+  }
+  UWS_CHECK(root.IsDefined() && !root.IsNull(), source, ": empty rig file");
+  Map map(root, "", source);
+  const std::string format = map.String("format");
+  UWS_CHECK(format == kFormat, source, ": 'format' must be ", kFormat, " (got '", format, "')");
+  Rig rig;
+  const YAML::Node cameras = map.Get("cameras");
+  UWS_CHECK(cameras.IsSequence() && cameras.size() > 0, source,
+            ": 'cameras' must be a non-empty list");
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    rig.cameras.push_back(ReadCamera(cameras[i], "cameras[" + std::to_string(i) + "]", source));
+  }
+  if (map.Has("lasers")) {
+    const YAML::Node lasers = map.Get("lasers");
+    UWS_CHECK(lasers.IsSequence(), source, ": 'lasers' must be a list");
+    for (size_t i = 0; i < lasers.size(); ++i) {
+      rig.lasers.push_back(ReadLaser(lasers[i], "lasers[" + std::to_string(i) + "]", source));
+    }
+  }
+  map.CheckNoUnknownKeys();
+  rig.Check(source);
+  return rig;
+}
+
+Rig ReadRigYaml(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  UWS_CHECK(in.good(), path.string(), ": cannot open rig file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return ParseRigYaml(text.str(), path.string());
+}
+
+std::string RigToYaml(const Rig& rig) {
+  std::ostringstream out;
+  out << "format: " << kFormat << "\ncameras:\n";
+  for (const auto& c : rig.cameras) {
+    out << "  - name: " << c.name << "\n"
+        << "    width: " << c.width << "\n"
+        << "    height: " << c.height << "\n"
+        << "    bayer: " << c.bayer << "\n"
+        << "    model: " << CameraModelName(c.model) << "\n"
+        << "    fx: " << Num(c.intrinsics[0]) << "\n"
+        << "    fy: " << Num(c.intrinsics[1]) << "\n"
+        << "    cx: " << Num(c.intrinsics[2]) << "\n"
+        << "    cy: " << Num(c.intrinsics[3]) << "\n"
+        << "    distortion: " << List(c.distortion) << "\n";
+    if (c.IsFlatPort()) {
+      out << "    port:\n"
+          << "      normal: " << List(c.port.normal) << "\n"
+          << "      d_air: " << Num(c.port.d_air) << "\n"
+          << "      d_glass: " << Num(c.port.d_glass) << "\n"
+          << "      n_air: " << Num(c.port.n_air) << "\n"
+          << "      n_glass: " << Num(c.port.n_glass) << "\n"
+          << "      n_water: " << Num(c.port.n_water) << "\n";
+    }
+    out << "    rig_from_camera: " << Pose(c.rig_from_camera) << "\n";
+  }
+  if (!rig.lasers.empty()) {
+    out << "lasers:\n";
+    for (const auto& l : rig.lasers) {
+      out << "  - name: " << l.name << "\n"
+          << "    camera_from_laser: " << Pose(l.camera_from_laser) << "\n"
+          << "    p1: " << Num(l.p1) << "\n"
+          << "    wavelength_nm: " << Num(l.wavelength_nm) << "\n";
+    }
+  }
+  return out.str();
+}
+
+void WriteRigYaml(const std::filesystem::path& path, const Rig& rig) {
+  rig.Check(path.string());
+  WriteFileAtomic(path, RigToYaml(rig));
+}
+
+}  // namespace uwscan

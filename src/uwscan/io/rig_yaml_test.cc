@@ -1,0 +1,124 @@
+#include "uwscan/io/rig_yaml.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+const char* kExample = R"(format: uwscan-rig/1
+cameras:
+  - name: cam0
+    width: 1280
+    height: 960
+    bayer: none
+    model: flatport
+    fx: 785.0
+    fy: 785.0
+    cx: 640.0
+    cy: 480.0
+    distortion: [0, 0, 0, 0, 0]
+    port:
+      normal: [0, 0, 1]
+      d_air: 0.005
+      d_glass: 0.010
+      n_air: 1.0
+      n_glass: 1.77
+      n_water: 1.337
+    rig_from_camera: {q: [1, 0, 0, 0], t: [0, 0, 0]}
+lasers:
+  - name: laser0
+    camera_from_laser: {q: [1, 0, 0, 0], t: [0.8, 0, 0]}
+    p1: 0.0
+    wavelength_nm: 532
+)";
+
+// Replaces the first occurrence of `from` in the example.
+std::string Edit(const std::string& from, const std::string& to) {
+  std::string text = kExample;
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseRigYaml(text, "test.yaml");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RigYaml, ReadsTheArchitectureExample) {
+  const Rig rig = ParseRigYaml(kExample, "example");
+  ASSERT_EQ(rig.cameras.size(), 1u);
+  ASSERT_EQ(rig.lasers.size(), 1u);
+  EXPECT_EQ(rig.cameras[0].name, "cam0");
+  EXPECT_TRUE(rig.cameras[0].IsFlatPort());
+  EXPECT_DOUBLE_EQ(rig.cameras[0].port.n_glass, 1.77);
+  EXPECT_DOUBLE_EQ(rig.lasers[0].camera_from_laser.translation.x(), 0.8);
+  EXPECT_DOUBLE_EQ(rig.lasers[0].wavelength_nm, 532);
+}
+
+TEST(RigYaml, RoundTripIsExact) {
+  Rig rig = ParseRigYaml(kExample, "example");
+  rig.cameras[0] = Camera::Flat3();  // non-trivial normal
+  rig.cameras[0].distortion = {0.1 / 3.0, -1e-7, 2.5e-5, 1.0 / 7.0, 0.3};
+  rig.cameras[0].rig_from_camera =
+      Rigid3d(Eigen::Quaterniond(0.9, 0.1, -0.2, 0.3), Eigen::Vector3d(0.1, 1.0 / 3.0, -2.0));
+  rig.lasers[0].p1 = 0.0123456789012345;
+  const std::string once = RigToYaml(rig);
+  const Rig back = ParseRigYaml(once, "once");
+  EXPECT_EQ(RigToYaml(back), once);
+  EXPECT_EQ(back.cameras[0].port.normal, rig.cameras[0].port.normal);
+  EXPECT_EQ(back.cameras[0].distortion, rig.cameras[0].distortion);
+  EXPECT_EQ(back.cameras[0].rig_from_camera.rotation.coeffs(),
+            rig.cameras[0].rig_from_camera.rotation.coeffs());
+
+  const auto path = std::filesystem::temp_directory_path() / "uwscan_rig_roundtrip.yaml";
+  WriteRigYaml(path, rig);
+  EXPECT_EQ(RigToYaml(ReadRigYaml(path)), once);
+  std::filesystem::remove(path);
+}
+
+TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
+  struct Case {
+    std::string text;
+    std::string expected;
+  };
+  const std::vector<Case> cases = {
+      {Edit("    bayer: none\n", "    bayer: none\n    colour: 3\n"), "unknown key 'cameras[0].colour'"},
+      {Edit("      d_glass: 0.010\n", ""), "missing key 'cameras[0].port.d_glass'"},
+      {Edit("fx: 785.0", "fx: .nan"), "'cameras[0].fx' must be a number"},
+      {Edit("fx: 785.0", "fx: nan"), "'cameras[0].fx' must be finite"},
+      {Edit("normal: [0, 0, 1]", "normal: [0, 0, 0]"), "port.normal must not be zero"},
+      {Edit("normal: [0, 0, 1]", "normal: [0, 0.1, 1]"), "port.normal must be a unit vector"},
+      {Edit("d_glass: 0.010", "d_glass: -0.010"), "port.d_glass must be a non-negative"},
+      {Edit("n_water: 1.337", "n_water: 0.9"), "port.n_water must be a refraction index >= 1"},
+      {Edit("bayer: none", "bayer: rgbg"), "bayer must be one of"},
+      {Edit("model: flatport", "model: fisheye"), "'cameras[0].model' must be pinhole or flatport"},
+      {Edit("format: uwscan-rig/1", "format: uwscan-rig/2"), "'format' must be uwscan-rig/1"},
+      {Edit("distortion: [0, 0, 0, 0, 0]", "distortion: [0, 0, 0, 0]"), "list of 5 numbers"},
+      {Edit("p1: 0.0", "p1: 0.0\n    power: 1"), "unknown key 'lasers[0].power'"},
+      {Edit("q: [1, 0, 0, 0], t: [0.8", "q: [2, 0, 0, 0], t: [0.8"), "unit quaternion"},
+      {"cameras: [", "not valid YAML"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = ErrorOf(c.text);
+    EXPECT_NE(message.find("test.yaml"), std::string::npos) << message;
+    EXPECT_NE(message.find(c.expected), std::string::npos)
+        << "expected '" << c.expected << "' in '" << message << "'";
+  }
+}
+
+TEST(RigYaml, MissingFileIsAnError) {
+  EXPECT_THROW(ReadRigYaml("/nonexistent/rig.yaml"), Error);
+}
+
+}  // namespace
+}  // namespace uwscan

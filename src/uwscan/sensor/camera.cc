@@ -1,0 +1,124 @@
+#include "uwscan/sensor/camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+
+const char* CameraModelName(CameraModelId model) {
+  return model == CameraModelId::kPinhole ? "pinhole" : "flatport";
+}
+
+std::optional<CameraModelId> CameraModelFromName(const std::string& name) {
+  if (name == "pinhole") return CameraModelId::kPinhole;
+  if (name == "flatport") return CameraModelId::kFlatPort;
+  return std::nullopt;
+}
+
+std::optional<ProjectionMethod> ProjectionMethodFromName(const std::string& name) {
+  if (name == "exact") return ProjectionMethod::kExact;
+  if (name == "taylor") return ProjectionMethod::kTaylor;
+  if (name == "pinhole") return ProjectionMethod::kPinhole;
+  return std::nullopt;
+}
+
+double FlatPort::TiltRad() const {
+  return std::acos(std::clamp(normal.normalized().z(), -1.0, 1.0));
+}
+
+std::optional<Eigen::Vector2d> Camera::Project(const Eigen::Vector3d& point_in_camera,
+                                               ProjectionMethod method,
+                                               int taylor_iterations) const {
+  Eigen::Vector2d pixel;
+  const double* point = point_in_camera.data();
+  if (!IsFlatPort() || method == ProjectionMethod::kPinhole) {
+    if (!PinholeModel::Project(intrinsics.data(), distortion.data(), point, pixel.data())) {
+      return std::nullopt;
+    }
+    return pixel;
+  }
+  const auto port_params = port.Params();
+  if (method == ProjectionMethod::kExact) {
+    if (!FlatPortModel::ProjectExact(intrinsics.data(), distortion.data(), port.normal.data(),
+                                     port_params.data(), point, pixel.data())) {
+      return std::nullopt;
+    }
+    return pixel;
+  }
+  double start[2];
+  if (!FlatPortModel::PinholeStart(port.normal.data(), port_params.data(), point, start) ||
+      !FlatPortModel::ProjectTaylor(intrinsics.data(), distortion.data(), port.normal.data(),
+                                    port_params.data(), point, start, taylor_iterations,
+                                    pixel.data())) {
+    return std::nullopt;
+  }
+  return pixel;
+}
+
+std::optional<Ray> Camera::BackProject(const Eigen::Vector2d& pixel) const {
+  Ray ray;
+  if (!IsFlatPort()) {
+    ray.origin.setZero();
+    if (!PinholeModel::BackProject(intrinsics.data(), distortion.data(), pixel.x(), pixel.y(),
+                                   ray.direction.data())) {
+      return std::nullopt;
+    }
+    return ray;
+  }
+  const auto port_params = port.Params();
+  if (!FlatPortModel::BackProject(intrinsics.data(), distortion.data(), port.normal.data(),
+                                  port_params.data(), pixel.x(), pixel.y(), ray.origin.data(),
+                                  ray.direction.data())) {
+    return std::nullopt;
+  }
+  return ray;
+}
+
+bool Camera::InImage(const Eigen::Vector2d& pixel, double margin) const {
+  return pixel.x() >= -0.5 + margin && pixel.y() >= -0.5 + margin &&
+         pixel.x() <= width - 0.5 - margin && pixel.y() <= height - 0.5 - margin;
+}
+
+void Camera::Check(const std::string& context) const {
+  UWS_CHECK(width > 0 && height > 0, context, ": width and height must be positive");
+  for (double value : intrinsics) UWS_CHECK(std::isfinite(value), context, ": intrinsics must be finite");
+  for (double value : distortion) UWS_CHECK(std::isfinite(value), context, ": distortion must be finite");
+  UWS_CHECK(intrinsics[0] > 0 && intrinsics[1] > 0, context, ": fx and fy must be positive");
+  UWS_CHECK(bayer == "none" || bayer == "rggb" || bayer == "bggr" || bayer == "grbg" ||
+                bayer == "gbrg",
+            context, ": bayer must be one of none, rggb, bggr, grbg, gbrg (got '", bayer, "')");
+  if (!IsFlatPort()) return;
+  UWS_CHECK(port.normal.allFinite(), context, ": port.normal must be finite");
+  const double norm = port.normal.norm();
+  UWS_CHECK(norm > 0, context, ": port.normal must not be zero");
+  UWS_CHECK(std::abs(norm - 1.0) < 1e-6, context, ": port.normal must be a unit vector (norm ",
+            norm, ")");
+  UWS_CHECK(port.normal.z() > 0, context, ": port.normal must point forward (z > 0)");
+  UWS_CHECK(std::isfinite(port.d_air) && port.d_air >= 0, context,
+            ": port.d_air must be a non-negative distance in metres");
+  UWS_CHECK(std::isfinite(port.d_glass) && port.d_glass >= 0, context,
+            ": port.d_glass must be a non-negative thickness in metres");
+  for (const auto& [key, value] : {std::pair{"n_air", port.n_air}, std::pair{"n_glass", port.n_glass},
+                                   std::pair{"n_water", port.n_water}}) {
+    UWS_CHECK(std::isfinite(value) && value >= 1.0, context, ": port.", key,
+              " must be a refraction index >= 1 (got ", value, ")");
+  }
+}
+
+namespace {
+Camera ThesisCamera(const Eigen::Vector3d& normal, double d_air) {
+  Camera camera;
+  camera.port.normal = normal.normalized();
+  camera.port.d_air = d_air;
+  camera.port.d_glass = 0.010;
+  return camera;
+}
+}  // namespace
+
+Camera Camera::Flat1() { return ThesisCamera(Eigen::Vector3d(0, 0, 1), 0.005); }
+Camera Camera::Flat2() { return ThesisCamera(Eigen::Vector3d(0, 0, 1), 0.010); }
+Camera Camera::Flat3() { return ThesisCamera(Eigen::Vector3d(0.02, -0.01, 1), 0.005); }
+
+}  // namespace uwscan

@@ -1,0 +1,77 @@
+// Runtime camera: parameters plus the model that interprets them. The maths
+// lives in the stateless templates of pinhole.h and flatport.h; this class
+// only dispatches on the model and converts to Eigen types.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string>
+
+#include "uwscan/geometry/rigid3d.h"
+#include "uwscan/sensor/flatport.h"
+
+namespace uwscan {
+
+enum class CameraModelId { kPinhole, kFlatPort };
+enum class ProjectionMethod { kExact, kTaylor, kPinhole };
+
+const char* CameraModelName(CameraModelId model);
+std::optional<CameraModelId> CameraModelFromName(const std::string& name);
+std::optional<ProjectionMethod> ProjectionMethodFromName(const std::string& name);
+
+// Flat port geometry and media (thesis Tab. 4.4), see architecture.md.
+struct FlatPort {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, camera -> water
+  double d_air = 0.005;    // camera centre to inner glass surface (m)
+  double d_glass = 0.010;  // glass thickness (m)
+  double n_air = 1.0;
+  double n_glass = 1.77;
+  double n_water = 1.337;
+
+  std::array<double, 5> Params() const { return {d_air, d_glass, n_air, n_glass, n_water}; }
+  // Tilt of the port against the optical axis (rad).
+  double TiltRad() const;
+};
+
+// A ray in the camera frame: origin (on the outer glass surface for a flat
+// port, the centre for a pinhole) and unit direction in the outer medium.
+struct Ray {
+  Eigen::Vector3d origin;
+  Eigen::Vector3d direction;
+  Eigen::Vector3d At(double lambda) const { return origin + lambda * direction; }
+};
+
+struct Camera {
+  std::string name = "cam0";
+  int width = 1280;
+  int height = 960;
+  std::string bayer = "none";  // none | rggb | bggr | grbg | gbrg
+  CameraModelId model = CameraModelId::kFlatPort;
+  std::array<double, 4> intrinsics{785.0, 785.0, 640.0, 480.0};  // fx fy cx cy
+  std::array<double, 5> distortion{0, 0, 0, 0, 0};               // k1 k2 p1 p2 k3
+  FlatPort port;
+  Rigid3d rig_from_camera;
+
+  // Camera-frame point -> pixel. For a pinhole camera every method is the
+  // pinhole projection; for a flat port, kPinhole ignores the port, kTaylor
+  // runs `taylor_iterations` steps from the paraxial start.
+  std::optional<Eigen::Vector2d> Project(const Eigen::Vector3d& point_in_camera,
+                                         ProjectionMethod method = ProjectionMethod::kExact,
+                                         int taylor_iterations = 2) const;
+  // Pixel -> ray in the outer medium.
+  std::optional<Ray> BackProject(const Eigen::Vector2d& pixel) const;
+
+  bool IsFlatPort() const { return model == CameraModelId::kFlatPort; }
+  bool InImage(const Eigen::Vector2d& pixel, double margin = 0.0) const;
+
+  // Throws uwscan::Error prefixed with `context` when a parameter is invalid.
+  void Check(const std::string& context) const;
+
+  // The simulated cameras of thesis Tab. 4.5 (1280x960, f = 785 px).
+  static Camera Flat1();
+  static Camera Flat2();
+  static Camera Flat3();
+};
+
+}  // namespace uwscan

@@ -1,0 +1,237 @@
+#include "uwscan/sensor/flatport.h"
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include "uwscan/util/jacobian_check.h"
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "uwscan/sensor/camera.h"
+
+namespace uwscan {
+namespace {
+
+// Flat1-3 of thesis Tab. 4.5, plus a camera with strong distortion behind a
+// port tilted by 5 degrees.
+std::vector<std::pair<std::string, Camera>> TestCameras() {
+  Camera strong = Camera::Flat1();
+  strong.distortion = {-0.25, 0.08, 0.001, -0.0015, -0.01};
+  strong.port.normal =
+      Eigen::AngleAxisd(5.0 * M_PI / 180.0, Eigen::Vector3d(1, 1, 0).normalized()) *
+      Eigen::Vector3d::UnitZ();
+  return {{"Flat1", Camera::Flat1()},
+          {"Flat2", Camera::Flat2()},
+          {"Flat3", Camera::Flat3()},
+          {"StrongTilted5", strong}};
+}
+
+// The point at depth z (camera frame) on the back-projected ray of a pixel.
+Eigen::Vector3d PointAtDepth(const Ray& ray, double depth) {
+  return ray.At((depth - ray.origin.z()) / ray.direction.z());
+}
+
+// Exact forward projection inverts exact back-projection to 1e-6 px over the
+// whole image (every 16 px), depths 0.2-20 m.
+TEST(FlatPortModel, ExactProjectionInvertsBackProjection) {
+  for (const auto& [name, camera] : TestCameras()) {
+    double worst = 0.0;
+    int count = 0;
+    for (double depth : {0.2, 0.5, 1.0, 3.0, 10.0, 20.0}) {
+      for (int v = 0; v <= camera.height; v += 16) {
+        for (int u = 0; u <= camera.width; u += 16) {
+          const Eigen::Vector2d pixel(u - 0.5, v - 0.5);
+          const auto ray = camera.BackProject(pixel);
+          ASSERT_TRUE(ray.has_value()) << name << " " << pixel.transpose();
+          const auto projected =
+              camera.Project(PointAtDepth(*ray, depth), ProjectionMethod::kExact);
+          ASSERT_TRUE(projected.has_value()) << name << " " << pixel.transpose();
+          worst = std::max(worst, (*projected - pixel).norm());
+          ++count;
+        }
+      }
+    }
+    EXPECT_LT(worst, 1e-6) << name;
+    EXPECT_GT(count, 20000);
+  }
+}
+
+// Snell's law holds at both interfaces: n1 sin(a1) = n2 sin(a2), and the
+// rays stay in one plane with the normal.
+TEST(FlatPortModel, BackProjectionObeysSnellAtEachInterface) {
+  for (const auto& [name, camera] : TestCameras()) {
+    const Eigen::Vector3d n = camera.port.normal;
+    const FlatPort& port = camera.port;
+    for (int v = 0; v <= camera.height; v += 120) {
+      for (int u = 0; u <= camera.width; u += 160) {
+        double x, y;
+        ASSERT_TRUE(PinholeModel::ImageToNormalized(camera.intrinsics.data(),
+                                                    camera.distortion.data(), double(u), double(v),
+                                                    &x, &y));
+        const Eigen::Vector3d air = Eigen::Vector3d(x, y, 1).normalized();
+        const auto ray = camera.BackProject(Eigen::Vector2d(u, v));
+        ASSERT_TRUE(ray.has_value());
+        // Entry point on the inner surface, exit on the outer.
+        const Eigen::Vector3d entry = air * (port.d_air / n.dot(air));
+        EXPECT_NEAR(n.dot(ray->origin), port.d_air + port.d_glass, 1e-15);
+        const Eigen::Vector3d glass = (ray->origin - entry).normalized();
+        const auto sine = [&](const Eigen::Vector3d& d) { return n.cross(d).norm(); };
+        EXPECT_NEAR(port.n_air * sine(air), port.n_glass * sine(glass), 1e-13) << name;
+        EXPECT_NEAR(port.n_glass * sine(glass), port.n_water * sine(ray->direction), 1e-13) << name;
+        // Coplanarity with the normal (plane of refraction, eq. 4.11).
+        EXPECT_NEAR(n.cross(air).normalized().dot(ray->direction), 0.0, 1e-13);
+        EXPECT_NEAR(n.cross(air).normalized().dot(glass), 0.0, 1e-13);
+        EXPECT_NEAR(ray->direction.norm(), 1.0, 1e-15);
+      }
+    }
+  }
+}
+
+// Worst Taylor error vs exact over the full image from the paraxial start.
+double WorstTaylorError(const Camera& camera, double depth, int iterations, TaylorVariant variant,
+                        int step) {
+  double worst = 0.0;
+  const auto port = camera.port.Params();
+  for (int v = 0; v <= camera.height; v += step) {
+    for (int u = 0; u <= camera.width; u += step) {
+      const Eigen::Vector2d pixel(u - 0.5, v - 0.5);
+      const Eigen::Vector3d point = PointAtDepth(*camera.BackProject(pixel), depth);
+      double start[2], projected[2];
+      EXPECT_TRUE(FlatPortModel::PinholeStart(camera.port.normal.data(), port.data(), point.data(),
+                                              start));
+      EXPECT_TRUE(FlatPortModel::ProjectTaylor(camera.intrinsics.data(), camera.distortion.data(),
+                                               camera.port.normal.data(), port.data(),
+                                               point.data(), start, iterations, projected,
+                                               variant));
+      worst = std::max(worst, std::hypot(projected[0] - pixel.x(), projected[1] - pixel.y()));
+    }
+  }
+  return worst;
+}
+
+// The thesis's target: <= 1e-3 px after three iterations everywhere.
+TEST(FlatPortModel, TaylorConvergesWithinThreeIterations) {
+  for (const auto& [name, camera] : TestCameras()) {
+    if (name == "StrongTilted5") continue;  // measured in BENCHMARKS, not a thesis camera
+    for (double depth : {0.5, 1.0, 3.0, 10.0}) {
+      const double one = WorstTaylorError(camera, depth, 1, TaylorVariant::kCentred, 32);
+      const double three = WorstTaylorError(camera, depth, 3, TaylorVariant::kCentred, 32);
+      EXPECT_LT(three, 1e-3) << name << " at " << depth << " m";
+      EXPECT_LT(three, one) << name;
+    }
+  }
+}
+
+// Taylor centred at the true pixel is a fixed point.
+TEST(FlatPortModel, TaylorFixedPointAtTrueProjection) {
+  const Camera camera = Camera::Flat3();
+  const auto port = camera.port.Params();
+  const Eigen::Vector2d pixel(100.25, 850.75);
+  const Eigen::Vector3d point = PointAtDepth(*camera.BackProject(pixel), 2.0);
+  double projected[2];
+  ASSERT_TRUE(FlatPortModel::ProjectTaylorFromPixel(
+      camera.intrinsics.data(), camera.distortion.data(), camera.port.normal.data(), port.data(),
+      point.data(), pixel.data(), 1, projected));
+  EXPECT_NEAR(projected[0], pixel.x(), 1e-9);
+  EXPECT_NEAR(projected[1], pixel.y(), 1e-9);
+}
+
+TEST(FlatPortModel, FailuresAreReportedNotNaN) {
+  const Camera camera = Camera::Flat1();
+  // Inside the housing and behind the camera.
+  EXPECT_FALSE(camera.Project(Eigen::Vector3d(0.0, 0.0, 0.01)).has_value());
+  EXPECT_FALSE(camera.Project(Eigen::Vector3d(0.1, 0.0, -1.0)).has_value());
+  EXPECT_FALSE(camera.Project(Eigen::Vector3d(0.1, 0.0, -1.0), ProjectionMethod::kTaylor));
+  // A point almost level with the outer surface: only a ray grazing through
+  // the air gap reaches it. Either a finite pixel (far outside the image) or
+  // a reported failure, never NaN.
+  const auto port = camera.port.Params();
+  const double grazing[3] = {10.0, 0.0, 0.02};
+  double pixel[2];
+  FlatPortModel::Status status;
+  if (FlatPortModel::ProjectExact(camera.intrinsics.data(), camera.distortion.data(),
+                                  camera.port.normal.data(), port.data(), grazing, pixel, &status)) {
+    EXPECT_TRUE(std::isfinite(pixel[0]) && std::isfinite(pixel[1]));
+    EXPECT_GT(pixel[0], 10.0 * camera.width);
+  }
+  // Denser medium inside than outside (n_air > n_water): oblique rays are
+  // totally reflected at the outer surface (sin a_w = 1.9/1.337 sin a_a > 1).
+  Camera dense = camera;
+  dense.port.n_air = 1.9;
+  dense.port.n_glass = 1.9;
+  EXPECT_FALSE(dense.BackProject(Eigen::Vector2d(0, 0)).has_value());
+  EXPECT_TRUE(dense.BackProject(Eigen::Vector2d(640, 480)).has_value());
+  // Zero normal.
+  const double zero[3] = {0, 0, 0};
+  const double point[3] = {0.1, 0.1, 1.0};
+  EXPECT_FALSE(FlatPortModel::ProjectExact(camera.intrinsics.data(), camera.distortion.data(), zero,
+                                           port.data(), point, pixel));
+  // Random points never yield NaN: either a finite pixel or a failure.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coordinate(-30.0, 30.0);
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Vector3d p(coordinate(rng), coordinate(rng), coordinate(rng));
+    for (auto method : {ProjectionMethod::kExact, ProjectionMethod::kTaylor}) {
+      const auto projected = camera.Project(p, method);
+      if (projected) {
+        EXPECT_TRUE(projected->allFinite()) << p.transpose();
+      }
+    }
+  }
+}
+
+// --- Jacobians through Jets vs numeric differentiation ---------------------
+struct ExactProjectionCost {
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* distortion, const T* normal, const T* port,
+                  const T* point, T* residual) const {
+    return FlatPortModel::ProjectExact(intrinsics, distortion, normal, port, point, residual);
+  }
+};
+
+struct TaylorProjectionCost {
+  explicit TaylorProjectionCost(const double* start) : start_{start[0], start[1]} {}
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* distortion, const T* normal, const T* port,
+                  const T* point, T* residual) const {
+    const T start[2] = {T(start_[0]), T(start_[1])};
+    return FlatPortModel::ProjectTaylorFromPixel(intrinsics, distortion, normal, port, point, start,
+                                                 2, residual);
+  }
+  double start_[2];
+};
+
+struct BackProjectionCost {
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* distortion, const T* normal, const T* port,
+                  const T* pixel, T* residual) const {
+    return FlatPortModel::BackProject(intrinsics, distortion, normal, port, pixel[0], pixel[1],
+                                      residual, residual + 3);
+  }
+};
+
+TEST(FlatPortModel, JacobiansMatchNumericDifferentiation) {
+  const Camera camera = Camera::Flat3();
+  const double intrinsics[4] = {785.0, 786.0, 641.0, 479.0};
+  const double distortion[5] = {-0.05, 0.01, 0.002, -0.0015, 0.001};
+  const double normal[3] = {camera.port.normal.x(), camera.port.normal.y(), camera.port.normal.z()};
+  const auto port = camera.port.Params();
+  const double point[3] = {0.45, -0.3, 1.7};
+  const double start[2] = {500.0, 300.0};
+  const double pixel[2] = {1000.0, 150.0};
+
+  std::vector<const double*> projection_parameters = {intrinsics, distortion, normal, port.data(),
+                                                      point};
+  ceres::AutoDiffCostFunction<ExactProjectionCost, 2, 4, 5, 3, 5, 3> exact(new ExactProjectionCost);
+  EXPECT_EQ(CheckJacobians(exact, projection_parameters, 1e-6), "");
+  ceres::AutoDiffCostFunction<TaylorProjectionCost, 2, 4, 5, 3, 5, 3> taylor(
+      new TaylorProjectionCost(start));
+  EXPECT_EQ(CheckJacobians(taylor, projection_parameters, 1e-6), "");
+  std::vector<const double*> back_parameters = {intrinsics, distortion, normal, port.data(), pixel};
+  ceres::AutoDiffCostFunction<BackProjectionCost, 6, 4, 5, 3, 5, 2> back(new BackProjectionCost);
+  EXPECT_EQ(CheckJacobians(back, back_parameters, 1e-6), "");
+}
+
+}  // namespace
+}  // namespace uwscan

@@ -1,0 +1,83 @@
+#include "uwscan/sensor/rig.h"
+
+#include <cmath>
+#include <set>
+
+#include "uwscan/sensor/line_projector.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+std::array<double, 4> QuaternionWxyz(const Eigen::Quaterniond& q) {
+  return {q.w(), q.x(), q.y(), q.z()};
+}
+}  // namespace
+
+std::optional<Eigen::Vector3d> LineProjector::Triangulate(const Ray& ray) const {
+  const auto q = QuaternionWxyz(camera_from_laser.rotation);
+  Eigen::Vector3d point;
+  if (!LineProjectorModel::Triangulate(q.data(), camera_from_laser.translation.data(), p1,
+                                       ray.origin.data(), ray.direction.data(), point.data())) {
+    return std::nullopt;
+  }
+  return point;
+}
+
+std::optional<double> LineProjector::SheetResidual(const Eigen::Vector3d& point_in_camera) const {
+  const auto q = QuaternionWxyz(camera_from_laser.rotation);
+  double residual;
+  if (!LineProjectorModel::SheetResidual(q.data(), camera_from_laser.translation.data(), p1,
+                                         point_in_camera.data(), &residual)) {
+    return std::nullopt;
+  }
+  return residual;
+}
+
+void LineProjector::Check(const std::string& context) const {
+  UWS_CHECK(std::isfinite(p1), context, ": p1 must be finite");
+  UWS_CHECK(std::isfinite(wavelength_nm) && wavelength_nm >= 300 && wavelength_nm <= 1100, context,
+            ": wavelength_nm must be between 300 and 1100 (got ", wavelength_nm, ")");
+  UWS_CHECK(camera_from_laser.translation.allFinite() && camera_from_laser.rotation.coeffs().allFinite(),
+            context, ": camera_from_laser must be finite");
+}
+
+const Camera& Rig::CameraByName(const std::string& name) const {
+  UWS_CHECK(!cameras.empty(), "the rig has no camera");
+  if (name.empty()) return cameras.front();
+  for (const auto& camera : cameras) {
+    if (camera.name == name) return camera;
+  }
+  UWS_THROW("the rig has no camera named '", name, "'");
+}
+
+const LineProjector& Rig::LaserByName(const std::string& name) const {
+  UWS_CHECK(!lasers.empty(), "the rig has no laser");
+  if (name.empty()) return lasers.front();
+  for (const auto& laser : lasers) {
+    if (laser.name == name) return laser;
+  }
+  UWS_THROW("the rig has no laser named '", name, "'");
+}
+
+Rigid3d Rig::CameraFromLaser(size_t camera_index, size_t laser_index) const {
+  UWS_CHECK(camera_index < cameras.size() && laser_index < lasers.size(), "rig index out of range");
+  const Rigid3d camera_from_first =
+      cameras[camera_index].rig_from_camera.Inverse() * cameras.front().rig_from_camera;
+  return camera_from_first * lasers[laser_index].camera_from_laser;
+}
+
+void Rig::Check(const std::string& context) const {
+  UWS_CHECK(!cameras.empty(), context, ": cameras: at least one camera is required");
+  std::set<std::string> names;
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    cameras[i].Check(context + ": cameras[" + std::to_string(i) + "]");
+    UWS_CHECK(names.insert(cameras[i].name).second, context, ": duplicate camera name '",
+              cameras[i].name, "'");
+  }
+  for (size_t i = 0; i < lasers.size(); ++i) {
+    lasers[i].Check(context + ": lasers[" + std::to_string(i) + "]");
+    UWS_CHECK(names.insert(lasers[i].name).second, context, ": duplicate name '", lasers[i].name, "'");
+  }
+}
+
+}  // namespace uwscan

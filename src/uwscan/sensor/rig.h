@@ -1,0 +1,39 @@
+// A rig: cameras with their extrinsics and line lasers. `camera_from_laser`
+// is relative to the first camera; other cameras reach a laser through
+// rig_from_camera.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uwscan/sensor/camera.h"
+
+namespace uwscan {
+
+struct LineProjector {
+  std::string name = "laser0";
+  Rigid3d camera_from_laser;
+  double p1 = 0.0;  // bend, eq. 4.30
+  double wavelength_nm = 532.0;
+
+  // Intersects a camera-frame ray with the (bent) light sheet.
+  std::optional<Eigen::Vector3d> Triangulate(const Ray& ray) const;
+  // Signed residual of eq. 4.30 for a camera-frame point; nullopt behind it.
+  std::optional<double> SheetResidual(const Eigen::Vector3d& point_in_camera) const;
+  void Check(const std::string& context) const;
+};
+
+struct Rig {
+  std::vector<Camera> cameras;
+  std::vector<LineProjector> lasers;
+
+  // Throws uwscan::Error if no camera has this name; empty name = first camera.
+  const Camera& CameraByName(const std::string& name) const;
+  const LineProjector& LaserByName(const std::string& name) const;
+  // camera_from_laser for any camera of the rig.
+  Rigid3d CameraFromLaser(size_t camera_index, size_t laser_index) const;
+  void Check(const std::string& context) const;
+};
+
+}  // namespace uwscan

@@ -1,0 +1,40 @@
+#include "uwscan/util/atomic_file.h"
+
+#include <unistd.h>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+
+AtomicFile::AtomicFile(std::filesystem::path path, bool binary) : path_(std::move(path)) {
+  temp_path_ = path_;
+  temp_path_ += ".tmp-" + std::to_string(::getpid());
+  out_.open(temp_path_, binary ? std::ios::out | std::ios::binary : std::ios::out);
+  UWS_CHECK(out_.good(), path_.string(), ": cannot open for writing");
+}
+
+AtomicFile::~AtomicFile() {
+  if (!committed_) {
+    out_.close();
+    std::error_code ignored;
+    std::filesystem::remove(temp_path_, ignored);
+  }
+}
+
+void AtomicFile::Commit() {
+  out_.flush();
+  UWS_CHECK(out_.good(), path_.string(), ": write failed");
+  out_.close();
+  std::error_code error;
+  std::filesystem::rename(temp_path_, path_, error);
+  UWS_CHECK(!error, path_.string(), ": cannot rename into place: ", error.message());
+  committed_ = true;
+}
+
+void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents) {
+  AtomicFile file(path);
+  file.stream() << contents;
+  file.Commit();
+}
+
+}  // namespace uwscan

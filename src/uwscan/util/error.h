@@ -1,0 +1,42 @@
+// Errors: library code throws uwscan::Error through the UWS_CHECK macros; the
+// CLI turns it into "uwscan: error: ..." and exit status 1.
+#pragma once
+
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace uwscan {
+
+// Bad input or a runtime failure the user can act on (file, key, value).
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+// A usage error (bad option combination): the CLI exits with status 2.
+class UsageError : public Error {
+ public:
+  explicit UsageError(const std::string& message) : Error(message) {}
+};
+
+namespace internal {
+template <typename... Args>
+std::string Concat(const Args&... args) {
+  std::ostringstream out;
+  (out << ... << args);
+  return out.str();
+}
+}  // namespace internal
+
+}  // namespace uwscan
+
+// Throws uwscan::Error with the streamed message when the condition is false.
+#define UWS_CHECK(condition, ...)                                     \
+  do {                                                                \
+    if (!(condition)) {                                               \
+      throw ::uwscan::Error(::uwscan::internal::Concat(__VA_ARGS__)); \
+    }                                                                 \
+  } while (false)
+
+#define UWS_THROW(...) throw ::uwscan::Error(::uwscan::internal::Concat(__VA_ARGS__))
