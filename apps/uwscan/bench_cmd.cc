@@ -15,9 +15,16 @@ void RegisterBenchCommands(CLI::App& app) {
       "projection", "Projections/s of pinhole, Taylor (1-3 iterations) and exact on Flat1-3");
   projection->add_option("--points", options->points, "points per camera")->capture_default_str();
   projection->add_option("--repetitions", options->repetitions, "best of N")->capture_default_str();
-  projection->callback([options] {
+  auto markdown = std::make_shared<bool>(false);
+  projection->add_flag("--markdown", *markdown, "print Markdown tables instead of JSON");
+  projection->callback([options, markdown] {
     const auto rates = RunProjectionBenchmark(*options);
-    std::cout << ProjectionBenchmarkToJson(rates, *options).dump(2) << "\n";
+    const auto accuracy = RunTaylorAccuracy();
+    if (*markdown) {
+      std::cout << ProjectionBenchmarkToMarkdown(rates, accuracy);
+    } else {
+      std::cout << ProjectionBenchmarkToJson(rates, accuracy, *options).dump(2) << "\n";
+    }
   });
 }
 
