@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "uwscan/pipeline/laser_benchmark.h"
 #include "uwscan/pipeline/projection_benchmark.h"
 #include "uwscan/util/error.h"
 
@@ -25,6 +26,26 @@ void RegisterBenchCommands(CLI::App& app) {
     } else {
       std::cout << ProjectionBenchmarkToJson(rates, accuracy, *options).dump(2) << "\n";
     }
+  });
+
+  auto laser_options = std::make_shared<LaserBenchmarkOptions>();
+  auto* laser = bench->add_subcommand(
+      "laser", "Frames/s of the thesis laser detector and the argmax and cog baselines");
+  laser->add_option("--width", laser_options->width)->capture_default_str();
+  laser->add_option("--height", laser_options->height)->capture_default_str();
+  laser->add_option("--frames", laser_options->frames, "distinct frames")->capture_default_str();
+  laser->add_option("--repetitions", laser_options->repetitions, "best of N passes")
+      ->capture_default_str();
+  laser->add_flag("--bayer", laser_options->bayer, "raw RGGB frames instead of 8-bit mono");
+  laser->callback([laser_options] {
+    const auto frames = MakeLaserBenchmarkFrames(*laser_options);
+    const auto layout =
+        laser_options->bayer ? laser::ColourLayout::kBayerRggb : laser::ColourLayout::kMono;
+    const auto rates = RunLaserBenchmark(frames, layout, *laser_options);
+    std::cout << LaserBenchmarkToJson(rates, frames.front().size(), static_cast<int>(frames.size()),
+                                      laser_options->bayer ? "synthetic-rggb" : "synthetic-mono")
+                     .dump(2)
+              << "\n";
   });
 }
 
