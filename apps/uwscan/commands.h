@@ -11,5 +11,6 @@ void RegisterAnalyzeCommands(CLI::App& app);
 void RegisterBenchCommands(CLI::App& app);
 void RegisterDemoCommand(CLI::App& app);
 void RegisterLaserCommands(CLI::App& app);
+void RegisterSimulateCommand(CLI::App& app);
 
 }  // namespace uwscan::cli
