@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "uwscan/pipeline/laser_accuracy_benchmark.h"
 #include "uwscan/pipeline/laser_benchmark.h"
 #include "uwscan/pipeline/projection_benchmark.h"
 #include "uwscan/util/error.h"
@@ -37,15 +38,39 @@ void RegisterBenchCommands(CLI::App& app) {
   laser->add_option("--repetitions", laser_options->repetitions, "best of N passes")
       ->capture_default_str();
   laser->add_flag("--bayer", laser_options->bayer, "raw RGGB frames instead of 8-bit mono");
-  laser->callback([laser_options] {
-    const auto frames = MakeLaserBenchmarkFrames(*laser_options);
-    const auto layout =
+  auto dataset = std::make_shared<std::string>();
+  laser->add_option("--dataset", *dataset,
+                    "use this dataset's frames and rig (e.g. from uwscan simulate tank-target)");
+  laser->callback([laser_options, dataset] {
+    std::vector<cv::Mat> frames;
+    laser::ColourLayout layout =
         laser_options->bayer ? laser::ColourLayout::kBayerRggb : laser::ColourLayout::kMono;
-    const auto rates = RunLaserBenchmark(frames, layout, *laser_options);
+    std::string source = laser_options->bayer ? "synthetic-rggb" : "synthetic-mono";
+    laser::DetectorOptions detector;
+    if (dataset->empty()) {
+      frames = MakeLaserBenchmarkFrames(*laser_options);
+    } else {
+      frames = LoadDatasetFrames(*dataset, laser_options->frames, &layout, &detector);
+      source = *dataset;
+    }
+    const auto rates = RunLaserBenchmark(frames, layout, *laser_options, detector);
     std::cout << LaserBenchmarkToJson(rates, frames.front().size(), static_cast<int>(frames.size()),
-                                      laser_options->bayer ? "synthetic-rggb" : "synthetic-mono")
+                                      source)
                      .dump(2)
               << "\n";
+  });
+
+  auto accuracy = std::make_shared<LaserAccuracyBenchmarkOptions>();
+  auto* laser_accuracy = bench->add_subcommand(
+      "laser-accuracy",
+      "Laser detection RMS, completeness and outliers on simulated tank-target frames (Markdown)");
+  laser_accuracy->add_option("--width", accuracy->width)->capture_default_str();
+  laser_accuracy->add_option("--height", accuracy->height)->capture_default_str();
+  laser_accuracy->add_option("--frames", accuracy->frames)->capture_default_str();
+  laser_accuracy->add_option("--seed", accuracy->seed)->capture_default_str();
+  laser_accuracy->add_option("--turbidity", accuracy->turbidities, "presets or c_p(530) values");
+  laser_accuracy->callback([accuracy] {
+    std::cout << LaserAccuracyToMarkdown(RunLaserAccuracyBenchmark(*accuracy));
   });
 }
 

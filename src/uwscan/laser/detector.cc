@@ -50,7 +50,8 @@ ColourLayout LayoutFor(const std::string& bayer, int image_channels) {
 
 void DetectorOptions::Check() const {
   UWS_CHECK(line_sigma_px > 0.2 && line_sigma_px < 50.0, "laser detection: line sigma must be 0.2-50 px");
-  UWS_CHECK(min_snr >= 0.0 && min_strength >= 0.0, "laser detection: thresholds must be >= 0");
+  UWS_CHECK(min_snr >= 0.0 && min_strength >= 0.0 && min_contrast >= 0.0,
+            "laser detection: thresholds must be >= 0");
   UWS_CHECK(noise_half_window_px >= 2, "laser detection: noise window must be >= 2 px");
   UWS_CHECK(max_jump_px >= 1 && max_gap_lines >= 0 && min_segment_lines >= 1,
             "laser detection: invalid connectivity settings");
@@ -107,17 +108,11 @@ struct BandPass {
   }
 };
 
-struct OtherChannel {
-  ScanChannel channel;
-  std::vector<int32_t> band;
-};
-
 struct Scratch {
   std::vector<int32_t> band;
   std::vector<int> candidates;
   std::vector<uint8_t> flags;
   std::vector<float> raw;
-  std::vector<OtherChannel> others;
   BandPass bandpass;
 };
 
@@ -128,33 +123,37 @@ const ScanChannel* FindLaserChannel(const std::vector<ScanChannel>& channels, in
   return nullptr;
 }
 
+// Band-pass response at one sample, from the log-scaled samples around it
+// (same units as BandPass::Apply); 0 where the support leaves the line.
+int32_t LocalBand(const RowSamples& row, const std::vector<uint16_t>& table, int k, int inner,
+                  int outer) {
+  if (k - outer < 0 || k + outer >= row.count) return 0;
+  int32_t inner_sum = 0, outer_sum = 0;
+  for (int j = k - outer; j <= k + outer; ++j) {
+    const int32_t v = table[row.Value(j)];
+    outer_sum += v;
+    if (j >= k - inner && j <= k + inner) inner_sum += v;
+  }
+  return inner_sum * (2 * outer + 1) - outer_sum * (2 * inner + 1);
+}
+
 // §5.5: true if another colour responds at least as strongly as the laser's
 // colour at this position: on this row and, for a Bayer mosaic, on the rows
 // above and below (each colour is missing from every other row).
 bool StrongerInOtherChannel(const cv::Mat& image, ColourLayout layout, int row,
                             const ScanChannel& laser, double position, int32_t response,
-                            bool* others_ready, Scratch* s) {
+                            const BandPass& bandpass) {
   const auto& table = LogTable(image.depth());
-  if (!*others_ready) {
-    s->others.clear();
-    const bool bayer = laser.stride == 2;
-    for (int r = bayer ? row - 1 : row; r <= (bayer ? row + 1 : row); ++r) {
-      if (r < 0 || r >= image.rows) continue;
-      for (const auto& c : ChannelsOnRow(layout, r)) {
-        if (c.channel == laser.channel) continue;
-        s->others.push_back({c, {}});
-        s->bandpass.Apply(RowChannel(image, layout, r, c), table, &s->others.back().band);
+  const bool bayer = laser.stride == 2;
+  for (int r = bayer ? row - 1 : row; r <= (bayer ? row + 1 : row); ++r) {
+    if (r < 0 || r >= image.rows) continue;
+    for (const auto& c : ChannelsOnRow(layout, r)) {
+      if (c.channel == laser.channel) continue;
+      const RowSamples samples = RowChannel(image, layout, r, c);
+      const int k = static_cast<int>(std::lround((position - c.offset) / c.stride));
+      for (int j = k - 1; j <= k + 1; ++j) {
+        if (LocalBand(samples, table, j, bandpass.inner, bandpass.outer) >= response) return true;
       }
-    }
-    *others_ready = true;
-  }
-  for (const auto& other : s->others) {
-    const int m = static_cast<int>(other.band.size());
-    const int k = std::clamp(
-        static_cast<int>(std::lround((position - other.channel.offset) / other.channel.stride)), 0,
-        m - 1);
-    for (int j = std::max(0, k - 1); j <= std::min(m - 1, k + 1); ++j) {
-      if (other.band[j] >= response) return true;
     }
   }
   return false;
@@ -178,7 +177,6 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
   const int a = bandpass.inner, outer = bandpass.outer;
   const int noise_half = std::max(outer + 2, o.noise_half_window_px / laser->stride);
   const int32_t* band = s->band.data();
-  bool others_ready = false;
   // Step 4, non-maximum suppression: local maxima above the threshold.
   // Most samples are below the threshold: flag them in a vectorisable loop,
   // then skip eight flags at a time.
@@ -206,6 +204,14 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
       is_max = band[j] <= b || j == i;
     }
     if (!is_max) continue;
+    // Linear contrast above the darkest sample of the band-pass support.
+    int peak_value = samples.Value(i), floor_value = peak_value;
+    for (int j = std::max(0, i - outer); j <= std::min(n - 1, i + outer); ++j) {
+      const int v = samples.Value(j);
+      peak_value = std::max(peak_value, j >= i - 1 && j <= i + 1 ? v : peak_value);
+      floor_value = std::min(floor_value, v);
+    }
+    if ((peak_value - floor_value) * samples.scale < o.min_contrast) continue;
     ++stats->candidate_peaks;
     // Step 3: signal-to-noise against the mean |response| in a 1D window
     // around the peak, leaving out the peak's own response (|j - i| <= b).
@@ -218,7 +224,7 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
     if (noise_count > 0 && b * static_cast<double>(noise_count) < o.min_snr * noise) continue;
     const double coarse = laser->offset + laser->stride * i;
     if (o.cross_channel_suppression && laser->channel != kMono &&
-        StrongerInOtherChannel(image, layout, row, *laser, coarse, b, &others_ready, s)) {
+        StrongerInOtherChannel(image, layout, row, *laser, coarse, b, bandpass)) {
       ++stats->suppressed_cross_channel;
       continue;
     }
@@ -236,12 +242,29 @@ double RefinePeak(const cv::Mat& image, ColourLayout layout, const Peak& peak,
       RowChannel(image, layout, peak.line, ScanChannel{peak.channel, peak.offset, peak.stride});
   const int n = samples.count;
   const int i = peak.sample;
-  const double sigma = o.line_sigma_px / peak.stride;
-  const int outer = std::max(std::max(1, static_cast<int>(std::lround(sigma))) + 2,
-                             static_cast<int>(std::lround(4.0 * sigma)));
   int k = i;
   if (i > 0 && samples.Value(i - 1) > samples.Value(k)) k = i - 1;
   if (i + 1 < n && samples.Value(i + 1) > samples.Value(k)) k = i + 1;
+  if (peak.stride == 2 && peak.channel == kGreen) {
+    // A thin line is undersampled by one colour of the mosaic: fit on the
+    // green channel at full resolution instead (the rows above and below
+    // fill the gaps).
+    const double sigma = o.line_sigma_px;
+    const int outer = std::max(3, static_cast<int>(std::lround(4.0 * sigma)));
+    const int centre = peak.offset + 2 * k;
+    const int lo = std::max(0, centre - outer), hi = std::min(image.cols - 1, centre + outer);
+    FullResolutionGreen(image, layout, peak.line, lo, hi - lo + 1, raw);
+    int best = centre - lo;
+    for (int j = std::max(0, best - 1); j <= std::min(hi - lo, best + 1); ++j) {
+      if ((*raw)[j] > (*raw)[best]) best = j;
+    }
+    const float background = *std::min_element(raw->begin(), raw->end());
+    const int half_width = std::clamp(static_cast<int>(std::lround(sigma)), 1, 3);
+    return lo + GaussianPeakPosition(raw->data(), hi - lo + 1, best, half_width, background);
+  }
+  const double sigma = o.line_sigma_px / peak.stride;
+  const int outer = std::max(std::max(1, static_cast<int>(std::lround(sigma))) + 2,
+                             static_cast<int>(std::lround(4.0 * sigma)));
   const int lo = std::max(0, k - outer), hi = std::min(n - 1, k + outer);
   raw->resize(hi - lo + 1);
   float background = samples.Raw(k);

@@ -38,6 +38,9 @@ struct DetectorOptions {
   // Thesis method.
   double min_snr = 3.0;          // band-pass response / mean |response| around it
   double min_strength = 0.02;    // band-pass response in log-intensity units (0..1)
+  // The log scaling lifts dark noise; a peak must also stand this far above
+  // the darkest sample around it in linear intensity (fraction of full scale).
+  double min_contrast = 0.02;
   int noise_half_window_px = 24; // 1D window for the noise mean
   int max_jump_px = 2;           // connectivity: max shift between consecutive scan lines
   int max_gap_lines = 2;         // scan lines a segment may skip

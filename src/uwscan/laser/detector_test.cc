@@ -157,9 +157,16 @@ TEST(LaserDetector, BaselinesRunAndAreLessPrecise) {
   EXPECT_LT(thesis.rms, cog.rms);
 }
 
-TEST(LaserDetector, SaturatedLineUsesPlateauCentre) {
-  const float samples[9] = {0.1f, 0.2f, 0.6f, 1.0f, 1.0f, 1.0f, 1.0f, 0.6f, 0.2f};
-  EXPECT_DOUBLE_EQ(GaussianPeakPosition(samples, 9, 4, 2, 0.1f), 4.5);
+TEST(LaserDetector, SaturatedLineUsesFlankMidpoint) {
+  // Symmetric flanks around 4.5.
+  const float symmetric[9] = {0.1f, 0.2f, 0.6f, 1.0f, 1.0f, 1.0f, 1.0f, 0.6f, 0.2f};
+  EXPECT_NEAR(GaussianPeakPosition(symmetric, 9, 4, 2, 0.1f), 4.5, 1e-9);
+  // A clipped Gaussian at 10.3 (sigma 1.2, peak 3x the clip level).
+  float clipped[21];
+  for (int i = 0; i < 21; ++i) {
+    clipped[i] = std::min(1.0f, static_cast<float>(0.05 + 3.0 * std::exp(-0.5 * std::pow((i - 10.3) / 1.2, 2))));
+  }
+  EXPECT_NEAR(GaussianPeakPosition(clipped, 21, 10, 2, 0.05f), 10.3, 0.05);
 }
 
 TEST(LaserDetector, GaussianFitIsExactOnSampledGaussian) {

@@ -47,6 +47,33 @@ ColourLayout TransposedLayout(ColourLayout layout) {
   }
 }
 
+int BayerColourAt(ColourLayout layout, int row, int col) {
+  if (layout == ColourLayout::kMono || layout == ColourLayout::kBgr) return kMono;
+  return BayerPattern(layout)[row % 2][col % 2];
+}
+
+void FullResolutionGreen(const cv::Mat& image, ColourLayout layout, int row, int first, int count,
+                         std::vector<float>* out) {
+  out->resize(count);
+  const float scale = image.depth() == CV_8U ? 1.0f / 255.0f : 1.0f / 65535.0f;
+  const auto at = [&](int r, int c) -> float {
+    return image.depth() == CV_8U ? image.at<uint8_t>(r, c) : image.at<uint16_t>(r, c);
+  };
+  for (int i = 0; i < count; ++i) {
+    const int col = first + i;
+    if (BayerColourAt(layout, row, col) == kGreen) {
+      (*out)[i] = at(row, col) * scale;
+      continue;
+    }
+    float sum = 0.0f;
+    int n = 0;
+    for (const int r : {row - 1, row + 1}) {
+      if (r >= 0 && r < image.rows) sum += at(r, col), ++n;
+    }
+    (*out)[i] = n ? sum / n * scale : 0.0f;
+  }
+}
+
 std::vector<ScanChannel> ChannelsOnRow(ColourLayout layout, int row) {
   if (layout == ColourLayout::kMono) return {{kMono, 0, 1}};
   if (layout == ColourLayout::kBgr) return {{kRed, 0, 1}, {kGreen, 0, 1}, {kBlue, 0, 1}};

@@ -34,6 +34,16 @@ struct RowSamples {
 // The layout of the transposed image (scanning columns = rows of the transpose).
 ColourLayout TransposedLayout(ColourLayout layout);
 
+// Colour of a raw Bayer pixel (kMono for mono and BGR layouts).
+int BayerColourAt(ColourLayout layout, int row, int col);
+
+// Green samples of a raw Bayer row at full resolution over columns
+// [first, first + count): green pixels as they are, the others the mean of
+// the green pixels above and below (no shift along the row, so a line's
+// position is not biased). Normalised to [0, 1].
+void FullResolutionGreen(const cv::Mat& image, ColourLayout layout, int row, int first, int count,
+                         std::vector<float>* out);
+
 // Channels present on row `row` (at most three).
 std::vector<ScanChannel> ChannelsOnRow(ColourLayout layout, int row);
 

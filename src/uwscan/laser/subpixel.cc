@@ -8,9 +8,27 @@ namespace uwscan::laser {
 double GaussianPeakPosition(const float* samples, int count, int k, int half_width,
                             float background, float saturation) {
   if (samples[k] >= saturation) {
+    // Saturated: the flat top carries no position. Use the midpoint of the
+    // two flanks where they cross half the height above the background
+    // (interpolated linearly); symmetric, so unbiased for a symmetric line.
     int left = k, right = k;
     while (left > 0 && samples[left - 1] >= saturation) --left;
     while (right + 1 < count && samples[right + 1] >= saturation) ++right;
+    const float level = background + 0.5f * (samples[k] - background);
+    double left_cross = -1.0, right_cross = -1.0;
+    for (int j = left - 1; j >= 0 && j >= left - 4; --j) {
+      if (samples[j] < level) {
+        left_cross = j + (level - samples[j]) / (samples[j + 1] - samples[j]);
+        break;
+      }
+    }
+    for (int j = right + 1; j < count && j <= right + 4; ++j) {
+      if (samples[j] < level) {
+        right_cross = j - (level - samples[j]) / (samples[j - 1] - samples[j]);
+        break;
+      }
+    }
+    if (left_cross >= 0.0 && right_cross >= 0.0) return 0.5 * (left_cross + right_cross);
     return 0.5 * (left + right);
   }
   // Weighted least squares of ln(I) = c0 + c1 t + c2 t^2, t = i - k.

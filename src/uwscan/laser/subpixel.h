@@ -7,7 +7,7 @@ namespace uwscan::laser {
 // in log intensity, least squares weighted by intensity^2 (so that dim,
 // noisy tail samples count little). Returns the peak position in sample
 // units; falls back to k when the fit is degenerate. Saturated peaks
-// (>= saturation) return the centre of the saturated run.
+// (>= saturation) return the midpoint of the flanks at half height.
 double GaussianPeakPosition(const float* samples, int count, int k, int half_width,
                             float background, float saturation = 0.999f);
 

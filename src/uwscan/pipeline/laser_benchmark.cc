@@ -2,7 +2,11 @@
 
 #include <chrono>
 
+#include <opencv2/imgcodecs.hpp>
+
+#include "uwscan/io/rig_yaml.h"
 #include "uwscan/laser/synthetic_line.h"
+#include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -28,15 +32,37 @@ std::vector<cv::Mat> MakeLaserBenchmarkFrames(const LaserBenchmarkOptions& optio
   return frames;
 }
 
+std::vector<cv::Mat> LoadDatasetFrames(const std::string& dataset, int max_frames,
+                                       laser::ColourLayout* layout,
+                                       laser::DetectorOptions* detector) {
+  const std::filesystem::path root(dataset);
+  const Rig rig = ReadRigYaml(root / "rig.yaml");
+  const Camera& camera = rig.cameras.front();
+  if (!rig.lasers.empty()) {
+    detector->scan_rows = LaserLineIsVertical(camera, rig.CameraFromLaser(0, 0));
+    detector->laser_channel = laser::ChannelForWavelength(rig.lasers.front().wavelength_nm);
+  }
+  std::vector<cv::Mat> frames;
+  for (const auto& path : ListImages(root / "frames")) {
+    if (static_cast<int>(frames.size()) >= max_frames) break;
+    cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    UWS_CHECK(!image.empty(), path.string(), ": unreadable image");
+    frames.push_back(image);
+  }
+  *layout = laser::LayoutFor(camera.bayer, frames.front().channels());
+  return frames;
+}
+
 std::vector<LaserRate> RunLaserBenchmark(const std::vector<cv::Mat>& frames,
                                          laser::ColourLayout layout,
-                                         const LaserBenchmarkOptions& options) {
+                                         const LaserBenchmarkOptions& options,
+                                         const laser::DetectorOptions& base) {
   options.Check();
   UWS_CHECK(!frames.empty(), "bench laser: no frames");
   std::vector<LaserRate> rates;
   for (const auto method : {laser::Method::kArgmax, laser::Method::kCentreOfGravity,
                             laser::Method::kThesis}) {
-    laser::DetectorOptions detector;
+    laser::DetectorOptions detector = base;
     detector.method = method;
     double best = 1e30;
     size_t points = 0;

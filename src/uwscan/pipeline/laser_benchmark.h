@@ -30,9 +30,17 @@ struct LaserRate {
 // Synthetic 8-bit frames with a slanted, slightly curved laser line.
 std::vector<cv::Mat> MakeLaserBenchmarkFrames(const LaserBenchmarkOptions& options);
 
+// Up to `max_frames` frames of a dataset folder, with the layout and the
+// detector settings (scan direction, laser colour) its rig implies.
+std::vector<cv::Mat> LoadDatasetFrames(const std::string& dataset, int max_frames,
+                                       laser::ColourLayout* layout,
+                                       laser::DetectorOptions* detector);
+
+// `base` supplies everything but the method.
 std::vector<LaserRate> RunLaserBenchmark(const std::vector<cv::Mat>& frames,
                                          laser::ColourLayout layout,
-                                         const LaserBenchmarkOptions& options);
+                                         const LaserBenchmarkOptions& options,
+                                         const laser::DetectorOptions& base = {});
 nlohmann::json LaserBenchmarkToJson(const std::vector<LaserRate>& rates, const cv::Size& size,
                                     int frames, const std::string& source);
 
