@@ -12,5 +12,7 @@ void RegisterBenchCommands(CLI::App& app);
 void RegisterDemoCommand(CLI::App& app);
 void RegisterLaserCommands(CLI::App& app);
 void RegisterSimulateCommand(CLI::App& app);
+void RegisterReconstructCommand(CLI::App& app);
+void RegisterEvaluateCommand(CLI::App& app);
 
 }  // namespace uwscan::cli

@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   uwscan::cli::RegisterDemoCommand(app);
   uwscan::cli::RegisterLaserCommands(app);
   uwscan::cli::RegisterSimulateCommand(app);
+  uwscan::cli::RegisterReconstructCommand(app);
+  uwscan::cli::RegisterEvaluateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

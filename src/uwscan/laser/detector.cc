@@ -55,6 +55,8 @@ void DetectorOptions::Check() const {
   UWS_CHECK(noise_half_window_px >= 2, "laser detection: noise window must be >= 2 px");
   UWS_CHECK(max_jump_px >= 1 && max_gap_lines >= 0 && min_segment_lines >= 1,
             "laser detection: invalid connectivity settings");
+  UWS_CHECK(min_relative_strength >= 0.0 && min_relative_strength <= 1.0,
+            "laser detection: relative segment strength must be in [0, 1]");
   UWS_CHECK(cog_threshold > 0.0 && cog_threshold < 1.0, "laser detection: cog threshold must be in (0, 1)");
   UWS_CHECK(laser_channel >= kRed && laser_channel <= kMono, "laser detection: invalid channel");
 }
@@ -204,14 +206,22 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
       is_max = band[j] <= b || j == i;
     }
     if (!is_max) continue;
-    // Linear contrast above the darkest sample of the band-pass support.
-    int peak_value = samples.Value(i), floor_value = peak_value;
-    for (int j = std::max(0, i - outer); j <= std::min(n - 1, i + outer); ++j) {
-      const int v = samples.Value(j);
-      peak_value = std::max(peak_value, j >= i - 1 && j <= i + 1 ? v : peak_value);
-      floor_value = std::min(floor_value, v);
+    // Linear contrast, on both sides: a line stands above both flanks
+    // (outside the inner box), a step edge only above one of them.
+    int peak_value = samples.Value(i);
+    for (int j = std::max(0, i - 1); j <= std::min(n - 1, i + 1); ++j) {
+      peak_value = std::max(peak_value, samples.Value(j));
     }
-    if ((peak_value - floor_value) * samples.scale < o.min_contrast) continue;
+    int left = 0, right = 0, left_count = 0, right_count = 0;
+    for (int j = std::max(0, i - outer); j < i - a; ++j) left += samples.Value(j), ++left_count;
+    for (int j = i + a + 1; j <= std::min(n - 1, i + outer); ++j) right += samples.Value(j), ++right_count;
+    if (left_count == 0 || right_count == 0) continue;
+    const double left_mean = double(left) / left_count, right_mean = double(right) / right_count;
+    const double contrast = peak_value - std::max(left_mean, right_mean);
+    if (contrast * samples.scale < o.min_contrast ||
+        contrast < 0.5 * (peak_value - std::min(left_mean, right_mean))) {
+      continue;
+    }
     ++stats->candidate_peaks;
     // Step 3: signal-to-noise against the mean |response| in a 1D window
     // around the peak, leaving out the peak's own response (|j - i| <= b).
@@ -352,7 +362,8 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
     }
     const auto segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
     detection.stats.segments = static_cast<int>(segments.size());
-    selected = SelectSegments(peaks, segments, image.rows, o.min_segment_lines);
+    selected = SelectSegments(peaks, segments, image.rows, o.min_segment_lines,
+                              o.min_relative_strength);
     for (const auto& [index, segment] : selected) {
       peaks[index].position = RefinePeak(image, layout, peaks[index], o, &scratch.raw);
     }

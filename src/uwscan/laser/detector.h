@@ -45,6 +45,9 @@ struct DetectorOptions {
   int max_jump_px = 2;           // connectivity: max shift between consecutive scan lines
   int max_gap_lines = 2;         // scan lines a segment may skip
   int min_segment_lines = 6;     // shorter segments are noise (marine snow, specks)
+  // Further segments must reach this share of the best segment's mean
+  // strength: the line is one light source, texture stripes are fainter.
+  double min_relative_strength = 0.3;
   bool cross_channel_suppression = true;  // §5.5: drop peaks stronger in another channel
   // Baselines: fraction of the scan line's maximum above which pixels count.
   double cog_threshold = 0.5;

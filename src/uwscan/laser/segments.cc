@@ -68,19 +68,28 @@ std::vector<Segment> GroupPeaks(const std::vector<Peak>& peaks, int max_jump, in
 
 std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
                                                 const std::vector<Segment>& segments,
-                                                int line_count, int min_lines) {
+                                                int line_count, int min_lines,
+                                                double min_relative_strength) {
   std::vector<int> order(segments.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return segments[a].score > segments[b].score; });
+  const auto mean_strength = [&](const Segment& segment) {
+    double sum = 0.0;
+    for (int p : segment.peaks) sum += peaks[p].strength;
+    return sum / segment.peaks.size();
+  };
   std::vector<bool> line_taken(line_count, false);
   std::vector<std::pair<int, int>> selected;
+  double reference = -1.0;  // mean strength of the best selected segment
   for (int s : order) {
     const auto& segment = segments[s];
     if (static_cast<int>(segment.peaks.size()) < min_lines) continue;
+    if (reference > 0.0 && mean_strength(segment) < min_relative_strength * reference) continue;
     int free_lines = 0;
     for (int p : segment.peaks) free_lines += !line_taken[peaks[p].line];
     if (free_lines < min_lines) continue;
+    if (reference < 0.0) reference = mean_strength(segment);
     for (int p : segment.peaks) {
       if (line_taken[peaks[p].line]) continue;
       line_taken[peaks[p].line] = true;

@@ -29,10 +29,13 @@ struct Segment {
 std::vector<Segment> GroupPeaks(const std::vector<Peak>& peaks, int max_jump, int max_gap);
 
 // Takes segments by decreasing score; a segment contributes its peaks on
-// lines not yet taken, if at least min_lines of them remain. Returns the
+// lines not yet taken, if at least min_lines of them remain and its mean
+// strength is at least `min_relative_strength` of the mean strength of the
+// best segment (a faint texture stripe is not the laser). Returns the
 // selected peak indices with their segment ids (index into `segments`).
 std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
                                                 const std::vector<Segment>& segments,
-                                                int line_count, int min_lines);
+                                                int line_count, int min_lines,
+                                                double min_relative_strength = 0.0);
 
 }  // namespace uwscan::laser
