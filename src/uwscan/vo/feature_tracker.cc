@@ -25,6 +25,7 @@ FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(
 }
 
 void FeatureTracker::Reset() {
+  anchor_pyramid_.clear();
   tracks_.clear();
   previous_pyramid_.clear();
   previous_gray_.release();
@@ -95,6 +96,7 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
       kept.push_back(t);
     }
     tracks_.swap(kept);
+    if (options_.anchor_refinement && !anchor_pyramid_.empty()) RefineFromAnchor(pyramid, window, criteria);
   } else {
     tracks_.clear();
   }
@@ -102,6 +104,39 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
   previous_gray_ = gray;
   stats.tracked = int(tracks_.size());
   return stats;
+}
+
+void FeatureTracker::SetAnchor() {
+  anchor_pyramid_ = previous_pyramid_;
+  for (auto& t : tracks_) {
+    t.anchored = true;
+    t.anchor_pixel = t.pixel;
+  }
+}
+
+void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
+                                      const cv::TermCriteria& criteria) {
+  std::vector<cv::Point2f> from, to;
+  std::vector<size_t> index;
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    if (!tracks_[i].anchored) continue;
+    from.emplace_back(float(tracks_[i].anchor_pixel.x()), float(tracks_[i].anchor_pixel.y()));
+    to.emplace_back(float(tracks_[i].pixel.x()), float(tracks_[i].pixel.y()));
+    index.push_back(i);
+  }
+  if (from.empty()) return;
+  std::vector<uint8_t> status;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(anchor_pyramid_, pyramid, from, to, status, error, window,
+                           options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  for (size_t k = 0; k < index.size(); ++k) {
+    FeatureTrack& t = tracks_[index[k]];
+    const Eigen::Vector2d refined(to[k].x, to[k].y);
+    if (status[k] && refined.allFinite() &&
+        (refined - t.pixel).norm() <= options_.anchor_max_correction_px) {
+      t.pixel = refined;
+    }
+  }
 }
 
 int FeatureTracker::Detect(const cv::Mat& mask, TrackingStats* stats) {

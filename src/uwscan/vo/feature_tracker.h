@@ -29,6 +29,12 @@ struct FeatureTrackerOptions {
   // Minimum corner response in absolute terms (Harris on 8-bit images), so
   // that textureless or black frames yield no features rather than noise.
   double min_harris_response = 1e-5;
+  // Drift-free tracking while the view changes little (a hovering
+  // platform): every frame, tracks are refined by KLT directly from the
+  // anchor image (the last keyframe) instead of only frame to frame, so
+  // sub-pixel errors do not add up between keyframes.
+  bool anchor_refinement = true;
+  double anchor_max_correction_px = 1.0;
   void Check() const;
 };
 
@@ -36,6 +42,8 @@ struct FeatureTrack {
   uint64_t id = 0;
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
   int age = 0;  // frames tracked
+  bool anchored = false;  // seen in the anchor image
+  Eigen::Vector2d anchor_pixel = Eigen::Vector2d::Zero();
 };
 
 struct TrackingStats {
@@ -57,6 +65,8 @@ class FeatureTracker {
   int Detect(const cv::Mat& mask, TrackingStats* stats = nullptr);
   // Forgets all features and the previous image.
   void Reset();
+  // Makes the current image the anchor of all current tracks.
+  void SetAnchor();
   void RemoveTracks(const std::vector<uint64_t>& ids);
 
   const std::vector<FeatureTrack>& tracks() const { return tracks_; }
@@ -67,6 +77,9 @@ class FeatureTracker {
   FeatureTrackerOptions options_;
   std::vector<FeatureTrack> tracks_;
   std::vector<cv::Mat> previous_pyramid_;
+  std::vector<cv::Mat> anchor_pyramid_;
+  void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
+                        const cv::TermCriteria& criteria);
   cv::Mat previous_gray_;
   uint64_t next_id_ = 1;
 };

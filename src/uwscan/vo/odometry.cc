@@ -1,6 +1,8 @@
 #include "uwscan/vo/odometry.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -275,6 +277,7 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   }
   tracker_.RemoveTracks(outliers);
   tracker_.Detect(mask, &result->tracking);
+  tracker_.SetAnchor();
   for (const auto& t : tracker_.tracks()) map_.keyframes[1].observations[t.id] = t.pixel;
 }
 
@@ -386,6 +389,7 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
   for (const auto& t : tracker_.tracks()) kf.observations[t.id] = t.pixel;
   kf.range_constraints = ranges;
   map_.keyframes.push_back(std::move(kf));
+  tracker_.SetAnchor();
 
   // Triangulate tracks seen in earlier keyframes of the window but not yet
   // in the map, from all their keyframe rays (widest baseline included).
@@ -417,6 +421,7 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
     }
     if (good) map_.points[id] = {id, *point, int(rays.size())};
   }
+  if (options_.surface) AddSurfacePoints(&map_.keyframes.back());
 
   result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
   tracker_.RemoveTracks(result->bundle_adjustment.removed_observations);
@@ -441,6 +446,83 @@ void Odometry::PruneMap() {
   for (auto it = map_.points.begin(); it != map_.points.end();) {
     it = alive.count(it->first) ? std::next(it) : map_.points.erase(it);
   }
+}
+
+}  // namespace uwscan::vo
+
+namespace uwscan::vo {
+
+int Odometry::AddSurfacePoints(Keyframe* keyframe) {
+  const Rigid3d world_from_camera = keyframe->WorldFromCamera();
+  int added = 0;
+  for (const auto& [id, pixel] : keyframe->observations) {
+    if (map_.points.count(id)) continue;
+    const auto ray = camera_.BackProject(pixel);
+    if (!ray) continue;
+    const Ray world = ToWorld(world_from_camera, *ray);
+    const auto hit = options_.surface(world.origin, world.direction);
+    if (!hit) continue;
+    map_.points[id] = {id, hit->point_world, 1};
+    keyframe->range_constraints.push_back(
+        {id, (hit->point_world - world.origin).norm(), hit->sigma_m});
+    ++added;
+  }
+  return added;
+}
+
+FrameResult Odometry::InitializeFromSurface(const cv::Mat& image, const cv::Mat& mask,
+                                            double timestamp_s, const Rigid3d& world_from_camera) {
+  UWS_CHECK(static_cast<bool>(options_.surface), "vo: InitializeFromSurface needs options.surface");
+  const auto start = Clock::now();
+  FrameResult result;
+  result.frame_index = frame_count_++;
+  result.timestamp_s = timestamp_s;
+  result.status = FrameStatus::kInitializing;
+  const cv::Mat gray = ToGray8(image);
+  if (gray.empty() || gray.cols != camera_.width || gray.rows != camera_.height) {
+    result.status = FrameStatus::kInvalid;
+    result.message = "invalid image for initialisation";
+    return result;
+  }
+  UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
+            "vo: mask must be empty or CV_8U of the image size");
+  timestamp_s_ = timestamp_s;
+  tracker_.Reset();
+  result.tracking = tracker_.Track(gray, mask);
+  tracker_.Detect(mask, &result.tracking);
+  tracker_.SetAnchor();
+  SparseMap previous = std::move(map_);
+  map_.Clear();
+  Keyframe keyframe;
+  keyframe.id = next_keyframe_id_;
+  keyframe.frame_index = result.frame_index;
+  keyframe.timestamp_s = timestamp_s;
+  keyframe.camera_from_world = world_from_camera.Inverse();
+  for (const auto& t : tracker_.tracks()) keyframe.observations[t.id] = t.pixel;
+  const int points = AddSurfacePoints(&keyframe);
+  if (points < options_.min_pnp_inliers) {
+    map_ = std::move(previous);
+    result.message = "surface initialisation: " + std::to_string(points) +
+                     " features with a measured depth (need " +
+                     std::to_string(options_.min_pnp_inliers) + ")";
+    result.total_time_s = Seconds(start);
+    return result;
+  }
+  map_.keyframes.push_back(std::move(keyframe));
+  ++next_keyframe_id_;
+  ++num_maps_;
+  state_ = State::kTracking;
+  reference_.reset();
+  result.status = FrameStatus::kTracked;
+  result.message = "initialised from the measured surface";
+  result.keyframe = true;
+  result.world_from_camera = world_from_camera;
+  result.map_matches = result.inliers = points;
+  last_keyframe_inliers_ = points;
+  last_camera_from_world_ = world_from_camera.Inverse();
+  last_median_depth_ = MedianDepth(map_.keyframes.back());
+  result.total_time_s = Seconds(start);
+  return result;
 }
 
 }  // namespace uwscan::vo

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <functional>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -24,6 +25,12 @@
 #include "uwscan/vo/windowed_bundle_adjuster.h"
 
 namespace uwscan::vo {
+
+// Where a ray meets a metrically measured surface, and how well that is known.
+struct SurfaceHit {
+  Eigen::Vector3d point_world;
+  double sigma_m = 0.003;
+};
 
 enum class FrameStatus {
   kInitializing,   // no map yet (start of the sequence): no pose
@@ -56,6 +63,12 @@ struct OdometryOptions {
   // depth; a larger jump is treated as a tracking failure.
   double max_step_depth_ratio = 0.5;
   bool keyframe_on_range_constraints = true;
+  // Depth from an active sensor (fusion, thesis §5.4): where a world ray
+  // (origin, unit direction) meets the metrically measured scene, if known.
+  // When set, tracks that cannot be triangulated (too little baseline, as
+  // on a hovering platform) get their map point there at keyframes, with a
+  // range constraint of the hit's uncertainty in that keyframe.
+  std::function<std::optional<SurfaceHit>(const Eigen::Vector3d&, const Eigen::Vector3d&)> surface;
   void Check() const;
 };
 
@@ -90,6 +103,14 @@ class Odometry {
   FrameResult ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
                            const std::vector<RangeConstraint>& ranges = {});
 
+  // Starts a map at this frame from `options.surface` instead of two-view
+  // geometry: the frame becomes the first keyframe at `world_from_camera`
+  // and every feature whose ray meets the surface a map point. Returns
+  // status kTracked on success; kInitializing (state unchanged otherwise)
+  // when too few features have a depth yet.
+  FrameResult InitializeFromSurface(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
+                                    const Rigid3d& world_from_camera);
+
   const SparseMap& map() const { return map_; }
   const std::vector<FeatureTrack>& tracks() const { return tracker_.tracks(); }
   const Camera& camera() const { return camera_; }
@@ -108,6 +129,8 @@ class Odometry {
   void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
                    const std::vector<RangeConstraint>& ranges, FrameResult* result);
   void PruneMap();
+  // Map points for the newest keyframe's tracks from options_.surface.
+  int AddSurfacePoints(Keyframe* keyframe);
   double MedianDepth(const Keyframe& keyframe) const;
 
   Camera camera_;
