@@ -17,22 +17,34 @@ cv::Mat SelfReferencedPoseProvider::PassiveImage(const cv::Mat& image, const std
                                                  int laser_channel) {
   // Features in a colour the laser does not light: red unless the laser is red.
   const int passive_rgb = laser_channel == laser::kRed ? laser::kBlue : laser::kRed;
-  cv::Mat bgr;
+  cv::Mat channel;
   if (image.channels() == 3) {
-    bgr = image;
+    cv::extractChannel(image, channel, 2 - passive_rgb);
   } else if (bayer != "none") {
     // OpenCV names Bayer codes by the second row's pattern start.
     const int code = bayer == "rggb"   ? cv::COLOR_BayerBG2BGR
                      : bayer == "bggr" ? cv::COLOR_BayerRG2BGR
                      : bayer == "grbg" ? cv::COLOR_BayerGB2BGR
                                        : cv::COLOR_BayerGR2BGR;
+    cv::Mat bgr;
     cv::cvtColor(image, bgr, code);
+    cv::extractChannel(bgr, channel, 2 - passive_rgb);
   } else {
-    return image;
+    channel = image;
   }
-  cv::Mat channel;
-  cv::extractChannel(bgr, channel, 2 - passive_rgb);
   return channel;
+}
+
+cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, double sigma_px) {
+  // The lights travel with the camera, so the scene's shading moves across
+  // the image from frame to frame and pulls Lucas-Kanade off the texture.
+  // Subtracting the local mean (a high pass) keeps the texture only.
+  cv::Mat value, background, result;
+  image.convertTo(value, CV_32F, image.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
+  cv::GaussianBlur(value, background, cv::Size(), sigma_px);
+  cv::Mat high_pass = (value - background) * 4.0 + 128.0;
+  high_pass.convertTo(result, CV_8U);
+  return result;
 }
 
 SelfReferencedPoseProvider::SelfReferencedPoseProvider(const Camera& camera, int laser_channel,
@@ -45,8 +57,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   ++frames_;
   Held held;
   held.input = frame;
-  held.input.image = PassiveImage(frame.image, camera_.bayer, laser_channel_);
-  if (held.input.image.data == frame.image.data) held.input.image = frame.image.clone();
+  held.input.image = NormalizeIllumination(PassiveImage(frame.image, camera_.bayer, laser_channel_),
+                                           options_.illumination_sigma_fraction * camera_.width);
   held.input.detection = nullptr;
   held.input.profile = nullptr;
   if (frame.detection && !frame.detection->mask.empty()) {
@@ -130,15 +142,7 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
     return std::nullopt;
   }
   ++tracked_;
-  Rigid3d pose = *result.world_from_camera;
-  if (options_.refine_with_profile) {
-    const PoseRefinementResult refined =
-        RefinePoseWithProfile(camera_, *odometry_, pose, frame.profile, *surface_, options_.refinement);
-    if (refined.refined) {
-      pose = refined.world_from_camera;
-      ++refined_;
-    }
-  }
+  const Rigid3d pose = *result.world_from_camera;
   last_pose_ = pose;
   surface_->AddProfile(pose, frame.profile);
   return PoseUpdate{frame.input.index, pose};
@@ -162,7 +166,6 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"frames_without_pose_at_start", dropped_},
           {"first_frame_with_pose", init_frame_},
           {"keyframes", keyframes_},
-          {"refined_with_profile", refined_},
           {"surface_points", surface_ ? surface_->size() : 0}};
 }
 

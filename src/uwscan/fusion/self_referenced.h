@@ -14,7 +14,6 @@
 #include <optional>
 
 #include "uwscan/fusion/pose_provider.h"
-#include "uwscan/fusion/pose_refinement.h"
 #include "uwscan/fusion/surface_model.h"
 #include "uwscan/sensor/rig.h"
 #include "uwscan/vo/odometry.h"
@@ -25,14 +24,9 @@ struct SelfReferencedOptions {
   vo::OdometryOptions odometry;
   SurfaceModelOptions surface;
   int mask_dilation_px = 4;     // around the detected line (halo, blur)
+  double illumination_sigma_fraction = 0.01;  // high-pass scale, of the image width
   int max_init_frames = 90;     // frames held back while the laser sweeps enough surface
   int init_attempt_every = 3;   // frames between initialisation attempts
-  // Joint refinement of each pose on features and the laser profile
-  // (pose_refinement.h). Off: on the simulated hover it pinned the profiles
-  // to a surface that drifts with the poses it was built from, and made the
-  // trajectory worse (docs/BENCHMARKS.md).
-  bool refine_with_profile = false;
-  PoseRefinementOptions refinement;
   void Check() const;
 };
 
@@ -48,6 +42,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // The image the odometry tracks: the LED's colour channel of a raw Bayer
   // or colour frame (not the laser's), else the frame itself.
   static cv::Mat PassiveImage(const cv::Mat& image, const std::string& bayer, int laser_channel);
+  // 8-bit high pass of the passive image (local mean removed, Gaussian of
+  // `sigma_px`), so that lights moving with the camera do not bias tracking.
+  static cv::Mat NormalizeIllumination(const cv::Mat& image, double sigma_px);
 
  private:
   struct Held {
@@ -69,7 +66,6 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // Statistics.
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
-  int refined_ = 0;
   long range_constraints_ = 0;
 };
 

@@ -54,6 +54,14 @@ TEST(SelfReferenced, PassiveImageAvoidsTheLaserColour) {
   EXPECT_GT(cv::mean(red)[0], 150.0);
   const cv::Mat mono(8, 8, CV_8U, cv::Scalar(5));
   EXPECT_EQ(SelfReferencedPoseProvider::PassiveImage(mono, "none", laser::kGreen).data, mono.data);
+  // A smooth shading ramp vanishes under the illumination normalisation.
+  cv::Mat ramp(64, 64, CV_8U);
+  for (int r = 0; r < 64; ++r) ramp.row(r).setTo(cv::Scalar(50 + 2 * r));
+  const cv::Mat flat = SelfReferencedPoseProvider::NormalizeIllumination(ramp, 6.0);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(flat(cv::Rect(16, 16, 32, 32)), mean, stddev);
+  EXPECT_NEAR(mean[0], 128.0, 2.0);
+  EXPECT_LT(stddev[0], 2.0);
 }
 
 }  // namespace

@@ -93,13 +93,6 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::FitCell
   return std::pair{centroid, Eigen::Vector3d(solver.eigenvectors().col(0))};
 }
 
-std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::LocalPlane(
-    const Eigen::Vector3d& point_world) const {
-  const auto cell = CellOf(point_world);
-  if (!cell) return std::nullopt;
-  return FitCell(*cell);
-}
-
 std::optional<Eigen::Vector3d> SurfaceModel::IntersectLocal(const Eigen::Vector3d& origin,
                                                             const Eigen::Vector3d& direction,
                                                             const Eigen::Vector2i& cell) const {

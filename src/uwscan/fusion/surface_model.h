@@ -55,10 +55,6 @@ class SurfaceModel {
     bool extrapolated = false;
   };
   std::optional<Hit> Intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
-  // The plane (point, unit normal) the laser measured around a world point,
-  // if its neighbourhood is well measured.
-  std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> LocalPlane(
-      const Eigen::Vector3d& point_world) const;
   long size() const { return points_; }
 
  private:
