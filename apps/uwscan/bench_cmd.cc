@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "uwscan/pipeline/laser_accuracy_benchmark.h"
 #include "uwscan/pipeline/laser_benchmark.h"
+#include "uwscan/pipeline/pipeline_benchmark.h"
 #include "uwscan/pipeline/projection_benchmark.h"
 #include "uwscan/util/error.h"
 
@@ -71,6 +72,19 @@ void RegisterBenchCommands(CLI::App& app) {
   laser_accuracy->add_option("--turbidity", accuracy->turbidities, "presets or c_p(530) values");
   laser_accuracy->callback([accuracy] {
     std::cout << LaserAccuracyToMarkdown(RunLaserAccuracyBenchmark(*accuracy));
+  });
+
+  auto pipeline_options = std::make_shared<PipelineBenchmarkOptions>();
+  auto pipeline_dataset = std::make_shared<std::string>();
+  auto* pipeline = bench->add_subcommand(
+      "pipeline", "Time the self-referenced reconstruction (real-time factor, peak memory) as JSON");
+  pipeline->add_option("--dataset", *pipeline_dataset, "dataset (default: simulate tank-target)");
+  pipeline->add_option("--frames", pipeline_options->frames)->capture_default_str();
+  pipeline->add_option("--width", pipeline_options->width)->capture_default_str();
+  pipeline->add_option("--height", pipeline_options->height)->capture_default_str();
+  pipeline->callback([pipeline_options, pipeline_dataset] {
+    pipeline_options->dataset = *pipeline_dataset;
+    std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
   });
 }
 

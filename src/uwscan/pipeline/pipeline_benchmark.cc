@@ -1,0 +1,56 @@
+#include "uwscan/pipeline/pipeline_benchmark.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/sim/simulate.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace fs = std::filesystem;
+
+void PipelineBenchmarkOptions::Check() const {
+  UWS_CHECK(frames >= 10, "bench pipeline: --frames must be >= 10");
+  UWS_CHECK(width >= 64 && height >= 48, "bench pipeline: resolution too small");
+}
+
+nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
+  options.Check();
+  const fs::path scratch =
+      fs::temp_directory_path() / ("uwscan_bench_pipeline_" + std::to_string(::getpid()));
+  fs::path dataset = options.dataset;
+  double simulate_seconds = 0.0;
+  if (dataset.empty()) {
+    sim::ScenarioOptions scenario;
+    scenario.frames = options.frames;
+    scenario.width = options.width;
+    scenario.height = options.height;
+    dataset = scratch / "dataset";
+    simulate_seconds = sim::SimulateScenario("tank-target", scenario, dataset).seconds;
+  }
+  ReconstructJob job;
+  job.dataset = dataset;
+  job.out = scratch / "result";
+  job.quiet = true;
+  ReconstructReport report;
+  try {
+    report = RunReconstruct(job);
+  } catch (...) {
+    fs::remove_all(scratch);
+    throw;
+  }
+  fs::remove_all(scratch);
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  nlohmann::json json = report.ToJson();
+  json["benchmark"] = "pipeline";
+  json["dataset"] = options.dataset.empty() ? "simulated tank-target" : options.dataset.string();
+  json["simulation_s_not_timed"] = simulate_seconds;
+  json["frames_per_second"] = report.frames / std::max(report.seconds, 1e-9);
+  json["peak_memory_mb"] = usage.ru_maxrss / 1024.0;
+  json["threads"] = 1;
+  return json;
+}
+
+}  // namespace uwscan

@@ -1,0 +1,21 @@
+// `uwscan bench pipeline`: the whole self-referenced reconstruction of a
+// dataset, timed per stage, with the real-time factor and the peak memory
+// of the process (run two lengths to see that it stays flat).
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+namespace uwscan {
+
+struct PipelineBenchmarkOptions {
+  std::filesystem::path dataset;  // empty: simulate tank-target first (not timed)
+  int frames = 300;
+  int width = 1280;
+  int height = 960;
+  void Check() const;
+};
+
+nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options);
+
+}  // namespace uwscan
