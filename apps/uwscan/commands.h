@@ -10,5 +10,6 @@ void RegisterCameraCommands(CLI::App& app);
 void RegisterAnalyzeCommands(CLI::App& app);
 void RegisterBenchCommands(CLI::App& app);
 void RegisterDemoCommand(CLI::App& app);
+void RegisterCalibrateCommands(CLI::App& app);
 
 }  // namespace uwscan::cli

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   uwscan::cli::RegisterAnalyzeCommands(app);
   uwscan::cli::RegisterBenchCommands(app);
   uwscan::cli::RegisterDemoCommand(app);
+  uwscan::cli::RegisterCalibrateCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -33,9 +33,18 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
   std::vector<cv::Point2f> corners;
   bool found;
   if (options.detector == CornerDetector::kSectorBased) {
-    found = cv::findChessboardCornersSB(
-        gray, pattern, corners,
-        cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY | cv::CALIB_CB_NORMALIZE_IMAGE);
+    found = cv::findChessboardCornersSB(gray, pattern, corners,
+                                        cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY |
+                                            cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_LARGER);
+    // With CALIB_CB_LARGER a board with more corners than asked for comes
+    // back whole: the --board size is wrong (a sub-board would calibrate
+    // with the wrong geometry).
+    if (found && static_cast<int>(corners.size()) > board.NumCorners()) {
+      result.reason = "the board has more inner corners (" + std::to_string(corners.size()) +
+                      ") than " + std::to_string(board.cols) + "x" + std::to_string(board.rows) +
+                      ": check --board";
+      return result;
+    }
   } else {
     found = cv::findChessboardCorners(gray, pattern, corners,
                                       cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
@@ -62,6 +71,10 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
       result.reason = "board touches the image border (partial view)";
       return result;
     }
+  }
+  if (result.edge_width_px >= 9999.0) {  // OpenCV's "could not measure"
+    result.reason = "sharpness not measurable along the board edges (wrong --board size?)";
+    return result;
   }
   if (result.edge_width_px > options.max_edge_width_px) {
     result.reason = "blurred: edge width " + std::to_string(result.edge_width_px) + " px > " +
@@ -109,6 +122,12 @@ FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const 
     if (detection.found) result.set.views.push_back({detection.name, detection.points});
     result.images.push_back(detection);
   }
+  int larger = 0;
+  for (const BoardDetection& d : result.images)
+    larger += d.reason.find("more inner corners") != std::string::npos;
+  UWS_CHECK(larger == 0, folder.string(), ": ", larger, " of ", files.size(),
+            " image(s) show a board with more inner corners than ", board.cols, "x", board.rows,
+            "; check --board (inner corners, COLSxROWS)");
   UWS_CHECK(!result.set.views.empty(), folder.string(), ": no ", board.cols, "x", board.rows,
             " board found in any of ", files.size(),
             " image(s); check --board (inner corners, COLSxROWS) and the images (first: ",
