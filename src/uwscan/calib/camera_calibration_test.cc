@@ -6,6 +6,7 @@
 
 #include "uwscan/calib/board_pose.h"
 #include "uwscan/calib/synthetic_views.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
@@ -133,6 +134,96 @@ TEST(AquariumCalibration, WithCornerNoiseWithinThesisTolerances) {
       ExpectAquariumRecovered(truth, run, 0.1, 3e-4, 0.2);
     }
   }
+}
+
+}  // namespace
+}  // namespace uwscan
+
+namespace uwscan {
+namespace {
+
+TEST(CameraCalibration, OutlierLoopDropsCorruptedViewWithReason) {
+  const Camera truth = AquariumCamera(0.010, 0.0);
+  Camera air_truth = truth;
+  air_truth.port.n_water = 1.0;
+  SyntheticViewOptions views;
+  views.num_views = 10;
+  views.min_range_m = 0.35;
+  views.max_range_m = 0.8;
+  views.noise_px = 0.1;
+  CornerSet set = SyntheticCornerSet(air_truth, kBoard, views);
+  // View 3: a detector glitch moves its corners by up to 3 px.
+  for (size_t i = 0; i < set.views[3].corners.size(); ++i) {
+    set.views[3].corners[i] += Eigen::Vector2d(3.0 * std::sin(0.7 * i), 3.0 * std::cos(1.3 * i));
+  }
+  CameraCalibrationOptions options;
+  options.fix_k3 = true;
+  const CameraCalibrationResult result = CalibratePinhole(set, truth, options);
+  EXPECT_EQ(result.used_views, 9);
+  EXPECT_FALSE(result.views[3].used);
+  EXPECT_NE(result.views[3].dropped_reason.find("above threshold"), std::string::npos)
+      << result.views[3].dropped_reason;
+  EXPECT_EQ(result.outlier_rounds, 1);
+  EXPECT_NEAR(result.rms_px, std::sqrt(2.0) * 0.1, 0.01);
+  // Covariance: fx standard deviation positive and the error within 4 sigma.
+  const auto fx = std::find_if(result.parameters.begin(), result.parameters.end(),
+                               [](const ParameterEstimate& p) { return p.name == "fx"; });
+  ASSERT_NE(fx, result.parameters.end());
+  EXPECT_GT(fx->std_dev, 0.01);
+  EXPECT_LT(std::abs(fx->value - truth.intrinsics[0]), 4.0 * fx->std_dev);
+}
+
+TEST(CameraCalibration, TooFewViewsIsAnError) {
+  SyntheticViewOptions views;
+  views.num_views = 2;
+  const CornerSet set = SyntheticCornerSet(AquariumCamera(0.01, 0.0), kBoard, views);
+  EXPECT_THROW(CalibratePinhole(set, Camera(), CameraCalibrationOptions()), Error);
+}
+
+// The thesis's residual (Taylor centred at the measured corner, §4.4) and
+// the exact one give the same port; the water index can be estimated.
+TEST(CameraCalibration, TaylorResidualAndWaterIndexEstimation) {
+  const Camera truth = AquariumCamera(0.020, 4.0);
+  Camera air_truth = truth;
+  air_truth.port.n_water = 1.0;
+  SyntheticViewOptions views;
+  views.num_views = 16;
+  views.min_range_m = 0.35;
+  views.max_range_m = 0.8;
+  const CornerSet air = SyntheticCornerSet(air_truth, kBoard, views);
+  views.min_range_m = 0.25;
+  views.max_range_m = 0.6;
+  views.seed = 5;
+  const CornerSet water = SyntheticCornerSet(truth, kBoard, views);
+  CameraCalibrationOptions options;
+  options.fix_k3 = true;
+  const auto pinhole = CalibratePinhole(air, truth, options);
+  FlatPortAirOptions air_options;
+  air_options.common = options;
+  air_options.d_glass = 0.006;
+  air_options.n_glass = 1.52;
+  const auto in_air = CalibrateFlatPortInAir(air, pinhole, air_options);
+  WaterRefinementOptions water_options;
+  water_options.common = options;
+  water_options.n_water = 1.333;
+  water_options.residual = FlatPortResidualType::kTaylor;
+  water_options.taylor_iterations = 1;
+  const auto taylor = CalibrateFlatPortJoint(air, in_air, water, water_options);
+  EXPECT_NEAR(taylor.camera.port.d_air, 0.020, 1e-5);
+  EXPECT_LT(TiltErrorDeg(truth, taylor.camera), 1e-3);
+  EXPECT_LT(taylor.rms_px, 1e-4);
+
+  water_options.residual = FlatPortResidualType::kExact;
+  water_options.n_water = 1.30;  // wrong start, estimated
+  water_options.estimate_n_water = true;
+  const auto estimated = CalibrateFlatPortJoint(air, in_air, water, water_options);
+  std::printf("n_water estimated %.5f (truth 1.333), d_air %.3f mm\n",
+              estimated.camera.port.n_water, estimated.camera.port.d_air * 1e3);
+  EXPECT_NEAR(estimated.camera.port.n_water, 1.333, 1e-4);
+  EXPECT_NEAR(estimated.camera.port.d_air, 0.020, 1e-4);
+  const bool reported = std::any_of(estimated.parameters.begin(), estimated.parameters.end(),
+                                    [](const ParameterEstimate& p) { return p.name == "n_water"; });
+  EXPECT_TRUE(reported);
 }
 
 }  // namespace
