@@ -67,6 +67,15 @@ std::vector<DetectionBenchmarkRow> RunDetectionBenchmark(
         const Rigid3d pose(rotation, position - rotation * centre);
         std::vector<Eigen::Vector2d> truth;
         const cv::Mat image = RenderBoard(board, pose, render, &truth);
+        bool inside = true;
+        for (const Eigen::Vector2d& c : truth) {
+          inside &=
+              c.x() > 10 && c.y() > 10 && c.x() < render.width - 11 && c.y() < render.height - 11;
+        }
+        if (!inside) {  // draw another pose: only whole boards count
+          --t;
+          continue;
+        }
         const BoardDetection detection = DetectBoard(image, board, gates_off);
         if (!detection.found) continue;
         // Detectors may start at either end of the board: match both orders.
