@@ -2,17 +2,12 @@
 // camera (in air, refined in water) and of a line laser (thesis §4.4).
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "commands.h"
-#include "uwscan/calib/board_pose.h"
+#include "uwscan/calib/calibration_pipeline.h"
 #include "uwscan/calib/calibration_report.h"
-#include "uwscan/calib/camera_calibration.h"
-#include "uwscan/calib/checkerboard.h"
 #include "uwscan/calib/detection_benchmark.h"
-#include "uwscan/calib/laser_calibration.h"
-#include "uwscan/calib/laser_points.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/util/error.h"
 
@@ -41,160 +36,74 @@ CornerDetector ParseDetector(const std::string& name) {
   throw UsageError("--detector must be sb or classic, got '" + name + "'");
 }
 
-void PrintDetections(const std::string& label, const FolderDetection& detection) {
-  std::fprintf(stderr, "%s: board found in %zu of %zu image(s)\n", label.c_str(),
-               detection.set.views.size(), detection.images.size());
-  for (const BoardDetection& d : detection.images) {
-    if (!d.found) std::fprintf(stderr, "  %s: %s\n", d.name.c_str(), d.reason.c_str());
-  }
-}
-
-void PrintResult(const CameraCalibrationResult& r) {
-  std::printf("%-15s rms %.4f px, %d views used, fx %.3f fy %.3f cx %.3f cy %.3f", r.stage.c_str(),
-              r.rms_px, r.used_views, r.camera.intrinsics[0], r.camera.intrinsics[1],
-              r.camera.intrinsics[2], r.camera.intrinsics[3]);
-  if (r.camera.IsFlatPort()) {
-    std::printf(", d_air %.2f mm, tilt %.3f deg", r.camera.port.d_air * 1e3,
-                r.camera.port.TiltRad() * 180.0 / M_PI);
-  }
-  std::printf("\n");
-  for (const ViewReport& v : r.views) {
-    if (!v.used) std::printf("  dropped %s: %s\n", v.name.c_str(), v.dropped_reason.c_str());
-  }
-}
-
 void RunCalibrateCamera(const CameraArgs& args) {
-  const BoardSpec board = BoardSpec::Parse(args.board);
+  CameraPipelineOptions options;
+  options.board = BoardSpec::Parse(args.board);
   const auto model = CameraModelFromName(args.model);
   if (!model) throw UsageError("--model must be pinhole or flatport, got '" + args.model + "'");
+  options.model = *model;
   if (*model == CameraModelId::kPinhole && !args.water.empty()) {
     throw UsageError("--water needs --model flatport");
   }
-  double n_glass = 0.0, d_glass = 0.0;
   if (*model == CameraModelId::kFlatPort) {
     char tail = 0;
-    if (args.glass.empty() ||
-        std::sscanf(args.glass.c_str(), "%lf,%lf%c", &n_glass, &d_glass, &tail) != 2) {
+    if (args.glass.empty() || std::sscanf(args.glass.c_str(), "%lf,%lf%c", &options.n_glass,
+                                          &options.d_glass, &tail) != 2) {
       throw UsageError("--model flatport needs --glass INDEX,THICKNESS_M (e.g. 1.52,0.006)");
     }
   }
-  DetectionOptions detection_options;
-  detection_options.detector = ParseDetector(args.detector);
-  const FlatPortResidualType residual =
-      args.residual == "taylor" ? FlatPortResidualType::kTaylor : FlatPortResidualType::kExact;
   if (args.residual != "taylor" && args.residual != "exact") {
     throw UsageError("--residual must be exact or taylor");
   }
-
-  nlohmann::json report;
-  report["board"] = board.ToString();
-  report["detector"] = CornerDetectorName(detection_options.detector);
-  const FolderDetection air = DetectBoardsInFolder(args.images, board, detection_options);
-  if (!args.quiet) PrintDetections(args.images, air);
-  report["detections"] = DetectionsToJson(air.images);
-
-  CameraCalibrationOptions options;
-  options.outliers.max_view_rms_px = args.max_view_rms;
-  Camera camera;
-  camera.name = args.camera;
-  CameraCalibrationResult final_result = CalibratePinhole(air.set, camera, options);
-  PrintResult(final_result);
-  report["stages"].push_back(CameraResultToJson(final_result));
-
-  if (*model == CameraModelId::kFlatPort) {
-    FlatPortAirOptions air_options;
-    air_options.common = options;
-    air_options.n_glass = n_glass;
-    air_options.d_glass = d_glass;
-    const CameraCalibrationResult in_air =
-        CalibrateFlatPortInAir(air.set, final_result, air_options);
-    PrintResult(in_air);
-    report["stages"].push_back(CameraResultToJson(in_air));
-    final_result = in_air;
-    final_result.camera.port.n_water = args.water_index;  // the medium it will be used in
-    if (!args.water.empty()) {
-      const FolderDetection water = DetectBoardsInFolder(args.water, board, detection_options);
-      if (!args.quiet) PrintDetections(args.water, water);
-      report["water_detections"] = DetectionsToJson(water.images);
-      UWS_CHECK(water.set.width == air.set.width && water.set.height == air.set.height, args.water,
-                ": water images are ", water.set.width, "x", water.set.height,
-                " but air images are ", air.set.width, "x", air.set.height);
-      WaterRefinementOptions water_options;
-      water_options.common = options;
-      water_options.n_water = args.water_index;
-      water_options.estimate_n_water = args.estimate_water_index;
-      water_options.residual = residual;
-      // Sequential refinement as in Tab. 4.11, for the report ...
-      const CameraCalibrationResult sequential =
-          RefineFlatPortInWater(water.set, in_air.camera, water_options);
-      PrintResult(sequential);
-      report["stages"].push_back(CameraResultToJson(sequential));
-      // ... and the joint air + water bundle as the result.
-      final_result = CalibrateFlatPortJoint(air.set, in_air, water.set, water_options);
-      PrintResult(final_result);
-      report["stages"].push_back(CameraResultToJson(final_result));
-      // A pinhole calibrated under water, the usual shortcut, for comparison.
-      const CameraCalibrationResult pin_water = CalibratePinhole(water.set, camera, options);
-      PrintResult(pin_water);
-      report["pinhole_in_water"] = CameraResultToJson(pin_water);
-      report["pinhole_vs_flatport"] = PinholeComparisonJson(final_result.camera, &pin_water.camera,
-                                                            {0.3, 0.5, 1.0, 2.0, 3.0, 5.0}, 1.0);
-    } else {
-      report["pinhole_vs_flatport"] =
-          PinholeComparisonJson(final_result.camera, nullptr, {0.3, 0.5, 1.0, 2.0, 3.0, 5.0}, 1.0);
-    }
+  options.residual =
+      args.residual == "taylor" ? FlatPortResidualType::kTaylor : FlatPortResidualType::kExact;
+  options.images = args.images;
+  options.water = args.water;
+  options.n_water = args.water_index;
+  options.estimate_n_water = args.estimate_water_index;
+  options.detection.detector = ParseDetector(args.detector);
+  options.calibration.outliers.max_view_rms_px = args.max_view_rms;
+  options.camera_name = args.camera;
+  try {
+    options.Check();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
   }
-  report["result"] = CameraResultToJson(final_result);
+  const CameraPipelineResult out = RunCameraCalibration(options);
+  for (const std::string& line : out.log) {
+    if (!args.quiet || line.find("image(s)") == std::string::npos)
+      std::printf("%s\n", line.c_str());
+  }
   Rig rig;
-  rig.cameras.push_back(final_result.camera);
+  rig.cameras.push_back(out.result.camera);
   WriteRigYaml(args.out, rig);
-  if (!args.report.empty()) {
-    const cv::Mat plot =
-        DrawResidualField(final_result, final_result.camera.width, final_result.camera.height);
-    WriteReport(args.report, "calibration", report, &plot);
-  }
+  if (!args.report.empty()) WriteReport(args.report, "calibration", out.report, &out.residual_plot);
   std::printf("wrote %s\n", args.out.c_str());
 }
 
 void RunCalibrateLaser(const LaserArgs& args) {
-  const BoardSpec board = BoardSpec::Parse(args.board);
+  LaserPipelineOptions options;
+  options.board = BoardSpec::Parse(args.board);
+  options.images = args.images;
+  options.detection.detector = ParseDetector(args.detector);
   Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
-  DetectionOptions detection_options;
-  detection_options.detector = ParseDetector(args.detector);
-  const FolderDetection detection = DetectBoardsInFolder(args.images, board, detection_options);
-  if (!args.quiet) PrintDetections(args.images, detection);
-  UWS_CHECK(detection.set.width == camera.width && detection.set.height == camera.height,
-            args.images, ": images are ", detection.set.width, "x", detection.set.height,
-            " but camera '", camera.name, "' in ", args.rig, " is ", camera.width, "x",
-            camera.height);
-  std::vector<LaserView> views;
-  for (const ViewCorners& view : detection.set.views) {
-    const auto pose = EstimateBoardPose(camera, board, view.corners);
-    if (!pose) {
-      std::fprintf(stderr, "  %s: no board pose\n", view.name.c_str());
-      continue;
-    }
-    const cv::Mat image = cv::imread((fs::path(args.images) / view.name).string());
-    LaserView laser_view;
-    laser_view.name = view.name;
-    laser_view.camera_from_board = pose->camera_from_board;
-    laser_view.laser_pixels = ExtractLaserPixels(image, board, view.corners);
-    views.push_back(laser_view);
-  }
-  LaserCalibrationOptions options;
   int laser_index = -1;
   for (size_t i = 0; i < rig.lasers.size(); ++i) {
     if (rig.lasers[i].name == args.laser) laser_index = static_cast<int>(i);
   }
-  if (laser_index >= 0)
-    options.nominal_camera_from_laser = rig.lasers[laser_index].camera_from_laser;
-  const LaserCalibrationResult result = CalibrateLaser(camera, views, options);
+  if (laser_index >= 0) {
+    options.calibration.nominal_camera_from_laser = rig.lasers[laser_index].camera_from_laser;
+  }
+  const LaserPipelineResult out = RunLaserCalibration(camera, options);
+  const LaserCalibrationResult& result = out.result;
   std::printf(
       "laser %s: %d/%d points inliers, plane rms %.3f mm, sheet rms %.3f mm, baseline "
-      "%.2f mm, p1 %.5f\n",
+      "%.2f mm, sheet normal to camera x %.3f deg, p1 %.5f\n",
       args.laser.c_str(), result.inliers, result.points, result.plane_rms_m * 1e3,
-      result.sheet_rms_m * 1e3, result.baseline_m * 1e3, result.laser.p1);
+      result.sheet_rms_m * 1e3, result.baseline_m * 1e3, result.sheet_angle_deg, result.laser.p1);
   LineProjector laser = result.laser;
   laser.name = args.laser;
   if (laser_index >= 0) {
@@ -204,11 +113,7 @@ void RunCalibrateLaser(const LaserArgs& args) {
     rig.lasers.push_back(laser);
   }
   WriteRigYaml(args.out, rig);
-  if (!args.report.empty()) {
-    nlohmann::json report = {{"laser", LaserResultToJson(result)},
-                             {"detections", DetectionsToJson(detection.images)}};
-    WriteReport(args.report, "laser_calibration", report, nullptr);
-  }
+  if (!args.report.empty()) WriteReport(args.report, "laser_calibration", out.report, nullptr);
   std::printf("wrote %s\n", args.out.c_str());
 }
 
