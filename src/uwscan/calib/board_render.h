@@ -9,6 +9,7 @@
 
 #include "uwscan/calib/board.h"
 #include "uwscan/geometry/rigid3d.h"
+#include "uwscan/sensor/camera.h"
 
 namespace uwscan {
 
@@ -28,5 +29,14 @@ struct BoardRenderOptions {
 // pixels in board order (OpenCV pixel-centre convention).
 cv::Mat RenderBoard(const BoardSpec& board, const Rigid3d& camera_from_board,
                     const BoardRenderOptions& options, std::vector<Eigen::Vector2d>* corners);
+
+// The same board seen through any rig camera (pinhole or flat port, with
+// distortion): every pixel's ray (Camera::BackProject) meets the board plane,
+// rendered at 2x and box-filtered; width, height and focal of `options` are
+// ignored. Corners are the exact projections.
+cv::Mat RenderBoardThroughCamera(const Camera& camera, const BoardSpec& board,
+                                 const Rigid3d& camera_from_board,
+                                 const BoardRenderOptions& options,
+                                 std::vector<Eigen::Vector2d>* corners);
 
 }  // namespace uwscan
