@@ -31,9 +31,10 @@ struct LaserArgs {
 };
 
 CornerDetector ParseDetector(const std::string& name) {
-  if (name == "sb") return CornerDetector::kSectorBased;
-  if (name == "classic") return CornerDetector::kClassic;
-  throw UsageError("--detector must be sb or classic, got '" + name + "'");
+  const auto detector = CornerDetectorFromName(name);
+  if (!detector)
+    throw UsageError("--detector must be sb, sb-subpix or classic, got '" + name + "'");
+  return *detector;
 }
 
 void RunCalibrateCamera(const CameraArgs& args) {
@@ -140,7 +141,9 @@ void RegisterCalibrateCommands(CLI::App& app) {
       ->add_option("--residual", camera_args->residual,
                    "flat-port residual in water: exact | taylor (centred at the corner)")
       ->capture_default_str();
-  camera->add_option("--detector", camera_args->detector, "sb (findChessboardCornersSB) | classic")
+  camera
+      ->add_option("--detector", camera_args->detector,
+                   "sb (findChessboardCornersSB) | sb-subpix | classic")
       ->capture_default_str();
   camera
       ->add_option("--max-view-rms", camera_args->max_view_rms,
@@ -166,7 +169,8 @@ void RegisterCalibrateCommands(CLI::App& app) {
                    "laser name (its pose, if present, is the "
                    "nominal projector centre)")
       ->capture_default_str();
-  laser->add_option("--detector", laser_args->detector, "sb | classic")->capture_default_str();
+  laser->add_option("--detector", laser_args->detector, "sb | sb-subpix | classic")
+      ->capture_default_str();
   laser->add_option("--out", laser_args->out, "rig.yaml to write")->required();
   laser->add_option("--report", laser_args->report, "folder for laser_calibration.json");
   laser->add_flag("--quiet", laser_args->quiet, "no per-image messages");

@@ -60,7 +60,7 @@ cv::Mat RenderBoardThroughCamera(const Camera& camera, const BoardSpec& board,
   const double plane = normal.dot(camera_from_board.translation);
   // Ray tracing on a coarse grid of the 2x image, interpolated in between:
   // the map is smooth, and tracing every pixel would take seconds.
-  const int s = 2, step = 4;
+  const int s = std::max(1, options.supersample), step = 4;
   const int width = camera.width * s, height = camera.height * s;
   const int grid_w = width / step + 2, grid_h = height / step + 2;
   cv::Mat grid_x(grid_h, grid_w, CV_32F), grid_y(grid_h, grid_w, CV_32F);
@@ -141,7 +141,7 @@ cv::Mat RenderBoard(const BoardSpec& board, const Rigid3d& camera_from_board,
       (options.height - 1) / 2.0, 0, 0, 1;
   // Render at 4x and box-filter down: each pixel integrates its area, as a
   // sensor does (bilinear sampling alone biases corners by ~0.1 px).
-  const int s = 4;
+  const int s = std::max(1, options.supersample);
   Eigen::Matrix3d high_from_low;
   high_from_low << s, 0, 0.5 * (s - 1), 0, s, 0.5 * (s - 1), 0, 0, 1;
   Eigen::Matrix3d image_from_board;

@@ -23,6 +23,7 @@ struct BoardRenderOptions {
   double veil = 128.0;       // veiling light level
   double black = 30.0, white = 220.0;
   unsigned seed = 1;
+  int supersample = 4;  // rendered at this factor and box-filtered down
 };
 
 // Renders the board at camera_from_board; `corners` gets the true corner

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,8 +16,14 @@
 
 namespace uwscan {
 
-enum class CornerDetector { kSectorBased, kClassic };
+enum class CornerDetector {
+  kSectorBased,        // findChessboardCornersSB with CALIB_CB_ACCURACY
+  kSectorBasedSubPix,  // SB to find the board, cornerSubPix (5x5) to refine
+  kClassic,            // findChessboardCorners + cornerSubPix (11x11)
+};
 const char* CornerDetectorName(CornerDetector detector);
+// "sb" | "sb-subpix" | "classic"; nullopt otherwise.
+std::optional<CornerDetector> CornerDetectorFromName(const std::string& name);
 
 struct DetectionOptions {
   CornerDetector detector = CornerDetector::kSectorBased;

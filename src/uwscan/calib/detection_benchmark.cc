@@ -20,6 +20,9 @@ std::vector<DetectionCondition> StandardDetectionConditions() {
     conditions.push_back(c);
   };
   add("clear", 0.5, 1.0, 1.0);
+  add("steep 40-50 deg", 0.5, 1.0, 1.0);
+  conditions.back().min_tilt_rad = 40.0 * M_PI / 180.0;
+  conditions.back().max_tilt_rad = 50.0 * M_PI / 180.0;
   add("blur 1 px", 1.0, 1.0, 1.0);
   add("blur 2 px", 2.0, 1.0, 1.0);
   add("blur 3 px", 3.0, 1.0, 1.0);
@@ -40,12 +43,14 @@ std::vector<DetectionBenchmarkRow> RunDetectionBenchmark(
   gates_off.max_edge_width_px = 1e9;
   gates_off.min_contrast = 0.0;
   for (const DetectionCondition& condition : conditions) {
-    for (CornerDetector detector : {CornerDetector::kSectorBased, CornerDetector::kClassic}) {
+    for (CornerDetector detector : {CornerDetector::kSectorBased,
+                                    CornerDetector::kSectorBasedSubPix, CornerDetector::kClassic}) {
       DetectionBenchmarkRow row;
       row.condition = condition.name;
-      row.detector = detector == CornerDetector::kSectorBased
-                         ? "findChessboardCornersSB"
-                         : "findChessboardCorners+cornerSubPix";
+      row.detector = detector == CornerDetector::kSectorBased ? "findChessboardCornersSB"
+                     : detector == CornerDetector::kClassic
+                         ? "findChessboardCorners + cornerSubPix 11x11"
+                         : "findChessboardCornersSB + cornerSubPix 5x5";
       row.trials = trials;
       gates_off.detector = detector;
       std::mt19937 rng(seed);
@@ -57,9 +62,12 @@ std::vector<DetectionBenchmarkRow> RunDetectionBenchmark(
         render.seed = seed + t;
         const Eigen::Vector3d centre((board.cols - 1) * board.square_m / 2,
                                      (board.rows - 1) * board.square_m / 2, 0);
+        const double tilt =
+            condition.min_tilt_rad +
+            (condition.max_tilt_rad - condition.min_tilt_rad) * 0.5 * (1.0 + uniform(rng));
+        const double axis = M_PI * uniform(rng);
         const Eigen::Quaterniond rotation(
-            Eigen::AngleAxisd(0.5 * uniform(rng), Eigen::Vector3d::UnitX()) *
-            Eigen::AngleAxisd(0.5 * uniform(rng), Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0.0)) *
             Eigen::AngleAxisd(0.3 * uniform(rng), Eigen::Vector3d::UnitZ()));
         const double range = board.cols * board.square_m * (1.3 + 0.4 * uniform(rng));
         const Eigen::Vector3d position(0.1 * range * uniform(rng), 0.1 * range * uniform(rng),

@@ -14,10 +14,12 @@ namespace uwscan {
 struct DetectionCondition {
   std::string name;
   BoardRenderOptions render;
+  double min_tilt_rad = 0.0;  // board tilt against the camera, uniform in [min, max]
+  double max_tilt_rad = 0.6;
 };
 
-// Clear, blur 1/2/3 px, noise 5/10/20, turbid (contrast 0.3, 0.15, 0.08
-// with noise 3).
+// Clear, steep (40-50 deg tilt), blur 1/2/3 px, noise 5/10/20, turbid
+// (contrast 0.3, 0.15, 0.08 with blur 1.5 px and noise 3).
 std::vector<DetectionCondition> StandardDetectionConditions();
 
 struct DetectionBenchmarkRow {
