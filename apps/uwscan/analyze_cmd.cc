@@ -46,10 +46,12 @@ void RunAnalyzePort(const AnalyzePortArgs& args) {
     std::printf("  %8.2f %10.4f %10.4f %10.4f%s\n", depth, stats.median_px, stats.p95_px,
                 stats.max_px, std::abs(depth - args.depth) < 1e-9 ? "  (fit depth)" : "");
   }
-  std::printf("optimal d_air (eq. 4.27) for the ray at half the image diagonal (%.1f deg): %.2f mm;"
-              " at 15 deg: %.2f mm\n",
-              half_diagonal * 90.0 / M_PI, OptimalAirGap(camera.port, half_diagonal / 2.0) * 1e3,
-              OptimalAirGap(camera.port, 15.0 * M_PI / 180.0) * 1e3);
+  std::printf("optimal d_air (eq. 4.27: the air gap that cancels refraction for one ray angle):\n");
+  for (double degrees : {5.0, 15.0, 25.0, 35.0, half_diagonal * 180.0 / M_PI}) {
+    std::printf("  ray at %5.1f deg%s: d_air %.2f mm\n", degrees,
+                std::abs(degrees - half_diagonal * 180.0 / M_PI) < 1e-9 ? " (image corner)" : "",
+                OptimalAirGap(camera.port, degrees * M_PI / 180.0) * 1e3);
+  }
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 #include <iostream>
 
 #include "commands.h"
+#include "uwscan/pipeline/laser_accuracy_benchmark.h"
+#include "uwscan/pipeline/laser_benchmark.h"
 #include "uwscan/pipeline/projection_benchmark.h"
 #include "uwscan/util/error.h"
 
@@ -15,9 +17,60 @@ void RegisterBenchCommands(CLI::App& app) {
       "projection", "Projections/s of pinhole, Taylor (1-3 iterations) and exact on Flat1-3");
   projection->add_option("--points", options->points, "points per camera")->capture_default_str();
   projection->add_option("--repetitions", options->repetitions, "best of N")->capture_default_str();
-  projection->callback([options] {
+  auto markdown = std::make_shared<bool>(false);
+  projection->add_flag("--markdown", *markdown, "print Markdown tables instead of JSON");
+  projection->callback([options, markdown] {
     const auto rates = RunProjectionBenchmark(*options);
-    std::cout << ProjectionBenchmarkToJson(rates, *options).dump(2) << "\n";
+    const auto accuracy = RunTaylorAccuracy();
+    if (*markdown) {
+      std::cout << ProjectionBenchmarkToMarkdown(rates, accuracy);
+    } else {
+      std::cout << ProjectionBenchmarkToJson(rates, accuracy, *options).dump(2) << "\n";
+    }
+  });
+
+  auto laser_options = std::make_shared<LaserBenchmarkOptions>();
+  auto* laser = bench->add_subcommand(
+      "laser", "Frames/s of the thesis laser detector and the argmax and cog baselines");
+  laser->add_option("--width", laser_options->width)->capture_default_str();
+  laser->add_option("--height", laser_options->height)->capture_default_str();
+  laser->add_option("--frames", laser_options->frames, "distinct frames")->capture_default_str();
+  laser->add_option("--repetitions", laser_options->repetitions, "best of N passes")
+      ->capture_default_str();
+  laser->add_flag("--bayer", laser_options->bayer, "raw RGGB frames instead of 8-bit mono");
+  auto dataset = std::make_shared<std::string>();
+  laser->add_option("--dataset", *dataset,
+                    "use this dataset's frames and rig (e.g. from uwscan simulate tank-target)");
+  laser->callback([laser_options, dataset] {
+    std::vector<cv::Mat> frames;
+    laser::ColourLayout layout =
+        laser_options->bayer ? laser::ColourLayout::kBayerRggb : laser::ColourLayout::kMono;
+    std::string source = laser_options->bayer ? "synthetic-rggb" : "synthetic-mono";
+    laser::DetectorOptions detector;
+    if (dataset->empty()) {
+      frames = MakeLaserBenchmarkFrames(*laser_options);
+    } else {
+      frames = LoadDatasetFrames(*dataset, laser_options->frames, &layout, &detector);
+      source = *dataset;
+    }
+    const auto rates = RunLaserBenchmark(frames, layout, *laser_options, detector);
+    std::cout << LaserBenchmarkToJson(rates, frames.front().size(), static_cast<int>(frames.size()),
+                                      source)
+                     .dump(2)
+              << "\n";
+  });
+
+  auto accuracy = std::make_shared<LaserAccuracyBenchmarkOptions>();
+  auto* laser_accuracy = bench->add_subcommand(
+      "laser-accuracy",
+      "Laser detection RMS, completeness and outliers on simulated tank-target frames (Markdown)");
+  laser_accuracy->add_option("--width", accuracy->width)->capture_default_str();
+  laser_accuracy->add_option("--height", accuracy->height)->capture_default_str();
+  laser_accuracy->add_option("--frames", accuracy->frames)->capture_default_str();
+  laser_accuracy->add_option("--seed", accuracy->seed)->capture_default_str();
+  laser_accuracy->add_option("--turbidity", accuracy->turbidities, "presets or c_p(530) values");
+  laser_accuracy->callback([accuracy] {
+    std::cout << LaserAccuracyToMarkdown(RunLaserAccuracyBenchmark(*accuracy));
   });
 }
 

@@ -10,6 +10,10 @@ void RegisterCameraCommands(CLI::App& app);
 void RegisterAnalyzeCommands(CLI::App& app);
 void RegisterBenchCommands(CLI::App& app);
 void RegisterDemoCommand(CLI::App& app);
+void RegisterLaserCommands(CLI::App& app);
+void RegisterSimulateCommand(CLI::App& app);
+void RegisterReconstructCommand(CLI::App& app);
+void RegisterEvaluateCommand(CLI::App& app);
 void RegisterCalibrateCommands(CLI::App& app);
 
 }  // namespace uwscan::cli

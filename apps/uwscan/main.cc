@@ -13,6 +13,10 @@ int main(int argc, char** argv) {
   uwscan::cli::RegisterAnalyzeCommands(app);
   uwscan::cli::RegisterBenchCommands(app);
   uwscan::cli::RegisterDemoCommand(app);
+  uwscan::cli::RegisterLaserCommands(app);
+  uwscan::cli::RegisterSimulateCommand(app);
+  uwscan::cli::RegisterReconstructCommand(app);
+  uwscan::cli::RegisterEvaluateCommand(app);
   uwscan::cli::RegisterCalibrateCommands(app);
   try {
     app.parse(argc, argv);

@@ -1,9 +1,13 @@
 #include "uwscan/pipeline/projection_benchmark.h"
 
 #include <chrono>
+#include <iomanip>
+#include <sstream>
 #include <random>
 
+#include "uwscan/eval/port_analysis.h"
 #include "uwscan/sensor/camera.h"
+#include "uwscan/sensor/pinhole.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -74,7 +78,73 @@ std::vector<ProjectionRate> RunProjectionBenchmark(const ProjectionBenchmarkOpti
   return rates;
 }
 
+std::vector<TaylorAccuracy> RunTaylorAccuracy(int step_px) {
+  UWS_CHECK(step_px >= 1, "Taylor accuracy: grid step must be >= 1 px");
+  std::vector<TaylorAccuracy> table;
+  const std::vector<std::pair<std::string, Camera>> cameras = {
+      {"Flat1", Camera::Flat1()}, {"Flat2", Camera::Flat2()}, {"Flat3", Camera::Flat3()}};
+  for (const auto& [name, camera] : cameras) {
+    PinholeFitOptions fit_options;
+    const Camera pinhole = FitPinholeToFlatPort(camera, fit_options).pinhole;
+    const auto port = camera.port.Params();
+    const double* intrinsics = camera.intrinsics.data();
+    const double* distortion = camera.distortion.data();
+    const double* normal = camera.port.normal.data();
+    for (double depth : {0.5, 1.0, 3.0, 10.0}) {
+      // Ground truth: pixels and their points on the plane z = depth.
+      std::vector<Eigen::Vector2d> pixels;
+      std::vector<Eigen::Vector3d> points;
+      for (int v = 0; v < camera.height; v += step_px) {
+        for (int u = 0; u < camera.width; u += step_px) {
+          const Eigen::Vector2d pixel(u, v);
+          const auto ray = camera.BackProject(pixel);
+          if (!ray) continue;
+          pixels.push_back(pixel);
+          points.push_back(ray->At((depth - ray->origin.z()) / ray->direction.z()));
+        }
+      }
+      for (const std::string start : {"paraxial", "pinhole3m"}) {
+        for (const auto& [variant_name, variant] :
+             {std::pair{"centred", TaylorVariant::kCentred},
+              std::pair{"thesis-axis", TaylorVariant::kThesisAxis}}) {
+          for (int iterations = 1; iterations <= 3; ++iterations) {
+            std::vector<double> errors, start_errors;
+            for (size_t i = 0; i < points.size(); ++i) {
+              double start_normalized[2] = {0.0, 0.0}, projected[2] = {0.0, 0.0};
+              bool ok;
+              if (start == "paraxial") {
+                ok = FlatPortModel::PinholeStart(normal, port.data(), points[i].data(),
+                                                 start_normalized);
+              } else {
+                const auto start_pixel = pinhole.Project(points[i], ProjectionMethod::kPinhole);
+                ok = start_pixel && PinholeModel::ImageToNormalized(
+                                        intrinsics, distortion, start_pixel->x(), start_pixel->y(),
+                                        &start_normalized[0], &start_normalized[1]);
+              }
+              double start_pixel[2];
+              PinholeModel::NormalizedToImage(intrinsics, distortion, start_normalized[0],
+                                              start_normalized[1], start_pixel);
+              ok = ok && FlatPortModel::ProjectTaylor(intrinsics, distortion, normal, port.data(),
+                                                      points[i].data(), start_normalized,
+                                                      iterations, projected, variant);
+              UWS_CHECK(ok, "Taylor accuracy: projection failed on ", name);
+              start_errors.push_back((Eigen::Vector2d(start_pixel[0], start_pixel[1]) - pixels[i]).norm());
+              errors.push_back((Eigen::Vector2d(projected[0], projected[1]) - pixels[i]).norm());
+            }
+            const ErrorStats stats = ComputeErrorStats(errors);
+            table.push_back({name, depth, start, variant_name, iterations,
+                             ComputeErrorStats(start_errors).max_px, stats.max_px,
+                             stats.median_px});
+          }
+        }
+      }
+    }
+  }
+  return table;
+}
+
 nlohmann::json ProjectionBenchmarkToJson(const std::vector<ProjectionRate>& rates,
+                                         const std::vector<TaylorAccuracy>& accuracy,
                                          const ProjectionBenchmarkOptions& options) {
   nlohmann::json json;
   json["benchmark"] = "projection";
@@ -93,7 +163,47 @@ nlohmann::json ProjectionBenchmarkToJson(const std::vector<ProjectionRate>& rate
                                {"slowdown_vs_pinhole", pinhole_rate / rate.points_per_second},
                                {"max_error_vs_exact_px", rate.max_error_px}});
   }
+  json["taylor_accuracy"] = nlohmann::json::array();
+  for (const auto& row : accuracy) {
+    json["taylor_accuracy"].push_back({{"camera", row.camera},
+                                       {"depth_m", row.depth_m},
+                                       {"start", row.start},
+                                       {"variant", row.variant},
+                                       {"iterations", row.iterations},
+                                       {"start_max_px", row.start_max_px},
+                                       {"max_px", row.max_px},
+                                       {"median_px", row.median_px}});
+  }
   return json;
+}
+
+std::string ProjectionBenchmarkToMarkdown(const std::vector<ProjectionRate>& rates,
+                                          const std::vector<TaylorAccuracy>& accuracy) {
+  std::ostringstream out;
+  out << "| camera | method | Mpoints/s | time vs pinhole | max error vs exact (px) |\n"
+      << "|---|---|---|---|---|\n";
+  for (const auto& rate : rates) {
+    double pinhole_rate = 0.0;
+    for (const auto& other : rates) {
+      if (other.camera == rate.camera && other.method == "pinhole") pinhole_rate = other.points_per_second;
+    }
+    out << "| " << rate.camera << " | " << rate.method << " | " << std::fixed
+        << std::setprecision(2) << rate.points_per_second / 1e6 << " | " << std::setprecision(1)
+        << pinhole_rate / rate.points_per_second << "x | " << std::scientific
+        << std::setprecision(2) << rate.max_error_px << " |\n";
+    out.unsetf(std::ios::floatfield);
+  }
+  out << "\n| camera | depth (m) | start | variant | start max | 1 it max | 2 it max | 3 it max | 3 it median |\n"
+      << "|---|---|---|---|---|---|---|---|---|\n";
+  for (size_t i = 0; i + 2 < accuracy.size(); i += 3) {
+    const auto& a = accuracy[i];
+    out << "| " << a.camera << " | " << a.depth_m << " | " << a.start << " | " << a.variant << " | "
+        << std::scientific << std::setprecision(2) << a.start_max_px << " | " << a.max_px << " | "
+        << accuracy[i + 1].max_px << " | " << accuracy[i + 2].max_px << " | "
+        << accuracy[i + 2].median_px << " |\n";
+    out.unsetf(std::ios::floatfield);
+  }
+  return out.str();
 }
 
 }  // namespace uwscan

@@ -1,0 +1,54 @@
+// uwscan laser detect
+#include <cstdio>
+
+#include "commands.h"
+#include "uwscan/pipeline/laser_detect.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan::cli {
+
+void RegisterLaserCommands(CLI::App& app) {
+  auto* laser = app.add_subcommand("laser", "Laser line detection and profiles");
+  laser->require_subcommand(1);
+  auto job = std::make_shared<LaserDetectJob>();
+  auto images = std::make_shared<std::string>();
+  auto rig = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto profiles = std::make_shared<std::string>();
+  auto overlay = std::make_shared<std::string>();
+  auto method = std::make_shared<std::string>("thesis");
+  auto* detect = laser->add_subcommand(
+      "detect", "Detect the laser line in every image: frame,u,v,channel,strength");
+  detect->add_option("--images", *images, "folder of images (sorted by name)")->required();
+  detect->add_option("--rig", *rig, "rig.yaml: image size, Bayer pattern, laser colour and pose");
+  detect->add_option("--camera", job->camera_name, "camera name (default: the first)");
+  detect->add_option("--out", *out, "detections.csv")->required();
+  detect->add_option("--method", *method, "thesis | cog | argmax")->capture_default_str();
+  detect->add_option("--overlay", *overlay, "folder for images with the detections drawn");
+  detect->add_option("--profiles", *profiles, "profiles.csv: triangulated points frame,x,y,z (camera frame, m)");
+  detect->add_option("--scan", job->scan, "rows | cols | auto")->capture_default_str();
+  detect->add_option("--channel", job->channel, "red | green | blue | auto")->capture_default_str();
+  detect->add_option("--sigma", job->detector.line_sigma_px, "expected line sigma (px)")
+      ->capture_default_str();
+  detect->add_flag("--quiet", job->quiet, "no summary");
+  detect->callback([=] {
+    const auto parsed = laser::MethodFromName(*method);
+    if (!parsed) throw UsageError("--method must be thesis, cog or argmax");
+    job->detector.method = *parsed;
+    job->images_dir = *images;
+    job->detections_csv = *out;
+    if (!rig->empty()) job->rig_path = *rig;
+    if (!profiles->empty()) job->profiles_csv = *profiles;
+    if (!overlay->empty()) job->overlay_dir = *overlay;
+    const LaserDetectSummary s = RunLaserDetect(*job);
+    if (!job->quiet) {
+      std::fprintf(stderr,
+                   "laser detect: %d frames (%d without a line, %d unreadable), %ld points, "
+                   "%.1f frames/s -> %s\n",
+                   s.frames, s.frames_without_line, s.unreadable_frames, s.points,
+                   s.frames / std::max(s.seconds, 1e-9), out->c_str());
+    }
+  });
+}
+
+}  // namespace uwscan::cli

@@ -1,0 +1,45 @@
+// uwscan reconstruct: the self-referenced scan of a dataset.
+#include <cstdio>
+
+#include "commands.h"
+#include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan::cli {
+
+void RegisterReconstructCommand(CLI::App& app) {
+  auto job = std::make_shared<ReconstructJob>();
+  auto dataset = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto poses = std::make_shared<std::string>();
+  auto no_compensation = std::make_shared<bool>(false);
+  auto* cmd = app.add_subcommand(
+      "reconstruct",
+      "Motion-compensated point cloud from a dataset: cloud.ply, cloud_uncompensated.ply, "
+      "trajectory.tum, report.json");
+  cmd->add_option("--dataset", *dataset, "dataset folder (rig.yaml, frames.csv, frames/)")->required();
+  cmd->add_option("--out", *out, "output folder")->required();
+  cmd->add_option("--poses", *poses, "external trajectory (TUM, world_from_camera) instead of VO");
+  cmd->add_flag("--no-motion-compensation", *no_compensation,
+                "place every profile with the first pose (cloud.ply too)");
+  cmd->add_option("--camera", job->camera_name, "camera name (default: the first)");
+  cmd->add_option("--laser", job->laser_name, "laser name (default: the first)");
+  cmd->add_option("--max-frames", job->max_frames, "process only the first N frames");
+  cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
+  cmd->callback([=] {
+    job->dataset = *dataset;
+    job->out = *out;
+    if (!poses->empty()) job->poses_file = *poses;
+    job->motion_compensation = !*no_compensation;
+    const ReconstructReport r = RunReconstruct(*job);
+    if (!job->quiet) {
+      std::fprintf(stderr,
+                   "reconstruct: %d frames (%d with a laser line, %d without pose), %ld points, "
+                   "poses from %s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
+                   r.frames, r.frames_with_line, r.frames_without_pose, r.points,
+                   r.pose_source.c_str(), r.seconds, r.RealTimeFactor(), out->c_str());
+    }
+  });
+}
+
+}  // namespace uwscan::cli

@@ -1,0 +1,51 @@
+// Accuracy of a reconstructed point cloud against the simulator's scene
+// (thesis §6.4-6.5): per surface, the fit of the ideal shape (plane standard
+// deviation, cylinder residual), distance errors along the surface, and the
+// error of every point against its true position.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "uwscan/io/ply.h"
+#include "uwscan/sensor/camera.h"
+#include "uwscan/sim/scene.h"
+
+namespace uwscan {
+
+struct SurfaceAccuracy {
+  std::string name;
+  std::string type;  // plane | cylinder | hull
+  long points = 0;
+  double fit_rms_m = 0.0;           // std of signed distances to the fitted plane / cylinder residual
+  double fit_max_abs_m = 0.0;
+  double point_error_rms_m = 0.0;   // |reconstructed - true|
+  double distance_error_mean_pct = 0.0;    // planes: |d_rec - d_true| / d_true over point pairs
+  double distance_error_median_pct = 0.0;
+  int distance_pairs = 0;
+  nlohmann::json ToJson() const;
+};
+
+struct CloudAccuracy {
+  long points = 0;
+  long matched = 0;  // with a true position on the scene
+  double point_error_rms_m = 0.0;
+  double point_error_median_m = 0.0;
+  std::vector<SurfaceAccuracy> surfaces;
+  nlohmann::json ToJson() const;
+  const SurfaceAccuracy* Surface(const std::string& name) const;
+};
+
+// `estimated` and `truth` hold world_from_camera per frame index; the
+// cloud's world is mapped onto the true world through the first frame both
+// know. Each point's pixel is recovered by projecting it into its frame with
+// the estimated pose (it was triangulated on that pixel's ray), and its
+// true position is the true ray of that pixel on the scene.
+CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
+                            const std::map<int, Rigid3d>& estimated,
+                            const std::map<int, Rigid3d>& truth, const Camera& camera,
+                            const sim::Scene& scene, unsigned seed = 1);
+
+}  // namespace uwscan

@@ -1,0 +1,43 @@
+#include "uwscan/fusion/pose_provider.h"
+
+#include <algorithm>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan::fusion {
+
+std::optional<Rigid3d> InterpolatePose(const std::vector<StampedPose>& poses, double t,
+                                       double max_extrapolation_s) {
+  if (poses.empty()) return std::nullopt;
+  const auto after = std::lower_bound(
+      poses.begin(), poses.end(), t,
+      [](const StampedPose& p, double time) { return p.timestamp_s < time; });
+  if (after == poses.begin()) {
+    if (poses.front().timestamp_s - t > max_extrapolation_s) return std::nullopt;
+    return poses.front().world_from_camera;
+  }
+  if (after == poses.end()) {
+    if (t - poses.back().timestamp_s > max_extrapolation_s) return std::nullopt;
+    return poses.back().world_from_camera;
+  }
+  const StampedPose& a = *(after - 1);
+  const StampedPose& b = *after;
+  const double span = b.timestamp_s - a.timestamp_s;
+  const double w = span > 0 ? (t - a.timestamp_s) / span : 0.0;
+  return Rigid3d(a.world_from_camera.rotation.slerp(w, b.world_from_camera.rotation),
+                 (1.0 - w) * a.world_from_camera.translation + w * b.world_from_camera.translation);
+}
+
+TrajectoryPoseProvider::TrajectoryPoseProvider(std::vector<StampedPose> poses, std::string name,
+                                               double max_extrapolation_s)
+    : poses_(std::move(poses)), name_(std::move(name)), max_extrapolation_s_(max_extrapolation_s) {
+  UWS_CHECK(!poses_.empty(), name_, ": the trajectory has no poses");
+  std::stable_sort(poses_.begin(), poses_.end(),
+                   [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+}
+
+std::optional<Rigid3d> TrajectoryPoseProvider::Pose(const FrameInput& frame) {
+  return InterpolatePose(poses_, frame.timestamp_s, max_extrapolation_s_);
+}
+
+}  // namespace uwscan::fusion

@@ -1,0 +1,57 @@
+// Where the reconstruction takes each frame's pose from: the self-referenced
+// visual odometry, or an external trajectory (INS, ground truth) for
+// comparison (`--poses FILE`).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "uwscan/io/tum.h"
+#include "uwscan/laser/detector.h"
+#include "uwscan/laser/profile.h"
+
+namespace uwscan::fusion {
+
+// Everything the pose estimation of one frame may use.
+struct FrameInput {
+  int index = 0;
+  double timestamp_s = 0.0;
+  cv::Mat image;                      // as stored (raw Bayer, mono or BGR)
+  const laser::Detection* detection = nullptr;  // with the line mask
+  const laser::Profile* profile = nullptr;      // camera-frame laser points (metric)
+};
+
+class PoseProvider {
+ public:
+  virtual ~PoseProvider() = default;
+  // world_from_camera of the frame, or nullopt when it cannot be estimated
+  // (the frame's profile is then left out, never placed at a wrong pose).
+  virtual std::optional<Rigid3d> Pose(const FrameInput& frame) = 0;
+  virtual std::string Name() const = 0;
+};
+
+// Poses from a TUM trajectory, interpolated at the frame's timestamp
+// (linear in translation, slerp in rotation), as an INS at 50 Hz would be
+// used with a 144 Hz camera. Frames outside the trajectory's time span by
+// more than `max_extrapolation_s` get no pose.
+class TrajectoryPoseProvider : public PoseProvider {
+ public:
+  TrajectoryPoseProvider(std::vector<StampedPose> poses, std::string name,
+                         double max_extrapolation_s = 0.05);
+  std::optional<Rigid3d> Pose(const FrameInput& frame) override;
+  std::string Name() const override { return name_; }
+
+ private:
+  std::vector<StampedPose> poses_;
+  std::string name_;
+  double max_extrapolation_s_;
+};
+
+// Interpolation used by TrajectoryPoseProvider (exposed for tests).
+std::optional<Rigid3d> InterpolatePose(const std::vector<StampedPose>& poses, double timestamp_s,
+                                       double max_extrapolation_s);
+
+}  // namespace uwscan::fusion

@@ -1,0 +1,92 @@
+#include "uwscan/io/dataset.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "uwscan/util/csv.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+
+std::string FrameFileName(int index) { return fmt::format("frames/{:06d}.png", index); }
+
+std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  UWS_CHECK(in.good(), path.string(), ": cannot open for reading");
+  std::string line;
+  UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(), ": empty file");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const bool with_angle = line == "index,timestamp_s,file,laser_angle_rad";
+  UWS_CHECK(with_angle || line == "index,timestamp_s,file", path.string(),
+            ": header must be 'index,timestamp_s,file[,laser_angle_rad]' (got '", line, "')");
+  std::vector<FrameRecord> records;
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::vector<std::string> fields;
+    std::istringstream split(line);
+    std::string field;
+    while (std::getline(split, field, ',')) fields.push_back(field);
+    UWS_CHECK(fields.size() == (with_angle ? 4u : 3u), path.string(), ":", number, ": expected ",
+              with_angle ? 4 : 3, " fields");
+    FrameRecord record;
+    try {
+      size_t used = 0;
+      record.index = std::stoi(fields[0], &used);
+      UWS_CHECK(used == fields[0].size(), "");
+      record.timestamp_s = std::stod(fields[1], &used);
+      UWS_CHECK(used == fields[1].size(), "");
+      if (with_angle) record.laser_angle_rad = std::stod(fields[3]);
+    } catch (const std::exception&) {
+      UWS_THROW(path.string(), ":", number, ": index, timestamp_s and laser_angle_rad must be numbers");
+    }
+    record.file = fields[2];
+    UWS_CHECK(!record.file.empty(), path.string(), ":", number, ": empty file name");
+    records.push_back(record);
+  }
+  return records;
+}
+
+FramesCsvWriter::FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle)
+    : file_(path), with_laser_angle_(with_laser_angle) {
+  file_.stream() << "index,timestamp_s,file" << (with_laser_angle ? ",laser_angle_rad" : "") << "\n";
+}
+
+void FramesCsvWriter::Add(const FrameRecord& record) {
+  file_.stream() << record.index << "," << fmt::format("{:.17g}", record.timestamp_s) << ","
+                 << record.file;
+  if (with_laser_angle_) file_.stream() << "," << fmt::format("{:.17g}", record.laser_angle_rad.value_or(0.0));
+  file_.stream() << "\n";
+}
+
+LaserTruthWriter::LaserTruthWriter(const std::filesystem::path& path) : file_(path) {
+  file_.stream() << "frame,laser,u,v,x,y,z\n";
+}
+
+void LaserTruthWriter::Add(const LaserTruthRow& r) {
+  file_.stream() << fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", r.frame, r.laser,
+                                r.u, r.v, r.x, r.y, r.z);
+}
+
+std::vector<LaserTruthRow> ReadLaserTruthCsv(const std::filesystem::path& path) {
+  const CsvTable table = ReadNumericCsv(path);
+  const std::string source = path.string();
+  const int frame = table.Column("frame", source), laser = table.Column("laser", source),
+            u = table.Column("u", source), v = table.Column("v", source),
+            x = table.Column("x", source), y = table.Column("y", source),
+            z = table.Column("z", source);
+  std::vector<LaserTruthRow> rows;
+  rows.reserve(table.rows.size());
+  for (const auto& row : table.rows) {
+    rows.push_back({static_cast<int>(row[frame]), static_cast<int>(row[laser]), row[u], row[v], row[x],
+                    row[y], row[z]});
+  }
+  return rows;
+}
+
+}  // namespace uwscan

@@ -1,0 +1,57 @@
+// Dataset folder (architecture.md): rig.yaml, frames.csv
+// (index,timestamp_s,file[,laser_angle_rad]), frames/, groundtruth.tum,
+// scene.yaml, laser_gt.csv, calib/{air,water,laser}/. Writers stream, so
+// memory stays flat with sequence length.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uwscan/util/atomic_file.h"
+
+namespace uwscan {
+
+struct FrameRecord {
+  int index = 0;
+  double timestamp_s = 0.0;
+  std::string file;                       // relative to the dataset folder
+  std::optional<double> laser_angle_rad;  // servo angle of the first laser
+};
+
+// File name of frame `index` inside the dataset: frames/000123.png.
+std::string FrameFileName(int index);
+
+std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path);
+
+class FramesCsvWriter {
+ public:
+  FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle);
+  void Add(const FrameRecord& record);
+  void Commit() { file_.Commit(); }
+
+ private:
+  AtomicFile file_;
+  bool with_laser_angle_;
+};
+
+// laser_gt.csv: frame,laser,u,v,x,y,z (camera frame, metres).
+struct LaserTruthRow {
+  int frame = 0, laser = 0;
+  double u = 0, v = 0, x = 0, y = 0, z = 0;
+};
+
+class LaserTruthWriter {
+ public:
+  explicit LaserTruthWriter(const std::filesystem::path& path);
+  void Add(const LaserTruthRow& row);
+  void Commit() { file_.Commit(); }
+
+ private:
+  AtomicFile file_;
+};
+
+std::vector<LaserTruthRow> ReadLaserTruthCsv(const std::filesystem::path& path);
+
+}  // namespace uwscan

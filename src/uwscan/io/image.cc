@@ -1,0 +1,32 @@
+#include "uwscan/io/image.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
+
+#include "uwscan/util/atomic_file.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+
+void WritePng(const std::filesystem::path& path, const cv::Mat& image, int compression) {
+  UWS_CHECK(!image.empty(), path.string(), ": empty image");
+  UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, path.string(),
+            ": PNG needs 8- or 16-bit pixels");
+  UWS_CHECK(image.channels() == 1 || image.channels() == 3, path.string(),
+            ": PNG needs 1 or 3 channels");
+  std::vector<uchar> buffer;
+  UWS_CHECK(cv::imencode(".png", image, buffer, {cv::IMWRITE_PNG_COMPRESSION, compression}),
+            path.string(), ": PNG encoding failed");
+  AtomicFile file(path, /*binary=*/true);
+  file.stream().write(reinterpret_cast<const char*>(buffer.data()),
+                      static_cast<std::streamsize>(buffer.size()));
+  file.Commit();
+}
+
+cv::Mat ReadImage(const std::filesystem::path& path) {
+  cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  UWS_CHECK(!image.empty(), path.string(), ": cannot read image");
+  return image;
+}
+
+}  // namespace uwscan

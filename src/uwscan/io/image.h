@@ -1,0 +1,16 @@
+// Image files: PNG (8- or 16-bit, 1 or 3 channels, raw Bayer mosaics stored
+// as one channel) written atomically, read back unchanged.
+#pragma once
+
+#include <filesystem>
+#include <opencv2/core.hpp>
+
+namespace uwscan {
+
+// Writes CV_8U/CV_16U with 1 or 3 channels (B G R) as PNG via a temporary
+// name; throws uwscan::Error naming the file.
+void WritePng(const std::filesystem::path& path, const cv::Mat& image, int compression = 3);
+// Reads any image unchanged (bit depth and channels kept).
+cv::Mat ReadImage(const std::filesystem::path& path);
+
+}  // namespace uwscan

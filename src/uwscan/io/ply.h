@@ -1,0 +1,47 @@
+// Binary little-endian PLY point clouds, the format CloudCompare, MeshLab and
+// Open3D open directly. Per vertex: x y z (float64), red green blue (uint8),
+// intensity (float32), frame (int32).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <vector>
+
+namespace uwscan {
+
+struct CloudPoint {
+  Eigen::Vector3d position;
+  uint8_t red = 255, green = 255, blue = 255;
+  float intensity = 0.0f;
+  int32_t frame = 0;
+};
+
+// Streams points to disk as they come (bounded memory). The file appears
+// under its final name only after Close(); on destruction without Close()
+// the temporary is removed.
+class PlyStreamWriter {
+ public:
+  explicit PlyStreamWriter(std::filesystem::path path);
+  ~PlyStreamWriter();
+  PlyStreamWriter(const PlyStreamWriter&) = delete;
+  PlyStreamWriter& operator=(const PlyStreamWriter&) = delete;
+
+  void Add(const CloudPoint& point);
+  void Close();
+  int64_t count() const { return count_; }
+
+ private:
+  std::filesystem::path path_, temp_path_;
+  std::ofstream out_;
+  int64_t count_ = 0;
+  bool closed_ = false;
+};
+
+// Reads a PLY written by PlyStreamWriter (or any binary little-endian PLY
+// with at least float/double x y z); missing optional fields keep defaults.
+std::vector<CloudPoint> ReadPly(const std::filesystem::path& path);
+
+}  // namespace uwscan

@@ -1,0 +1,410 @@
+#include "uwscan/laser/detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "uwscan/laser/scanline.h"
+#include "uwscan/laser/segments.h"
+#include "uwscan/laser/subpixel.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan::laser {
+
+std::optional<Method> MethodFromName(const std::string& name) {
+  if (name == "thesis") return Method::kThesis;
+  if (name == "cog") return Method::kCentreOfGravity;
+  if (name == "argmax") return Method::kArgmax;
+  return std::nullopt;
+}
+
+const char* MethodName(Method method) {
+  switch (method) {
+    case Method::kThesis: return "thesis";
+    case Method::kCentreOfGravity: return "cog";
+    default: return "argmax";
+  }
+}
+
+const char* ChannelName(int channel) {
+  static const char* names[] = {"red", "green", "blue", "mono"};
+  return channel >= 0 && channel <= 3 ? names[channel] : "unknown";
+}
+
+int ChannelForWavelength(double wavelength_nm) {
+  if (wavelength_nm < 490.0) return kBlue;
+  if (wavelength_nm < 580.0) return kGreen;
+  return kRed;
+}
+
+ColourLayout LayoutFor(const std::string& bayer, int image_channels) {
+  if (image_channels == 3) return ColourLayout::kBgr;
+  UWS_CHECK(image_channels == 1, "laser detection: images must have 1 or 3 channels, not ",
+            image_channels);
+  if (bayer == "rggb") return ColourLayout::kBayerRggb;
+  if (bayer == "bggr") return ColourLayout::kBayerBggr;
+  if (bayer == "grbg") return ColourLayout::kBayerGrbg;
+  if (bayer == "gbrg") return ColourLayout::kBayerGbrg;
+  return ColourLayout::kMono;
+}
+
+void DetectorOptions::Check() const {
+  UWS_CHECK(line_sigma_px > 0.2 && line_sigma_px < 50.0, "laser detection: line sigma must be 0.2-50 px");
+  UWS_CHECK(min_snr >= 0.0 && min_strength >= 0.0 && min_contrast >= 0.0,
+            "laser detection: thresholds must be >= 0");
+  UWS_CHECK(noise_half_window_px >= 2, "laser detection: noise window must be >= 2 px");
+  UWS_CHECK(max_jump_px >= 1 && max_gap_lines >= 0 && min_segment_lines >= 1,
+            "laser detection: invalid connectivity settings");
+  UWS_CHECK(min_relative_strength >= 0.0 && min_relative_strength <= 1.0,
+            "laser detection: relative segment strength must be in [0, 1]");
+  UWS_CHECK(cog_threshold > 0.0 && cog_threshold < 1.0, "laser detection: cog threshold must be in (0, 1)");
+  UWS_CHECK(laser_channel >= kRed && laser_channel <= kMono, "laser detection: invalid channel");
+}
+
+namespace {
+
+// Band-pass across the line (§5.3): a difference of box means, inner
+// half-width a ~ sigma, outer half-width b ~ 4 sigma; zero response to a
+// constant signal. Integer arithmetic on the log-scaled samples from a
+// prefix sum: O(1) per sample and exact.
+struct BandPass {
+  int inner = 1;
+  int outer = 4;
+  std::vector<int32_t> prefix;
+
+  // Response units: kLogScale * (2a + 1) * (2b + 1) per unit of log contrast.
+  double Scale() const { return double(kLogScale) * (2 * inner + 1) * (2 * outer + 1); }
+
+  void Apply(const RowSamples& row, const std::vector<uint16_t>& table, std::vector<int32_t>* band) {
+    const int n = row.count;
+    // Log scaling through the table fused with the prefix sum.
+    prefix.resize(n + 1);
+    int32_t* __restrict p = prefix.data();
+    p[0] = 0;
+    int32_t sum = 0;
+    if (row.data8) {
+      const uint8_t* __restrict data = row.data8 + row.first;
+      const int step = row.step;
+      for (int i = 0; i < n; ++i) p[i + 1] = sum += table[data[i * step]];
+    } else {
+      const uint16_t* __restrict data = row.data16 + row.first;
+      const int step = row.step;
+      for (int i = 0; i < n; ++i) p[i + 1] = sum += table[data[i * step]];
+    }
+    band->resize(n);
+    int32_t* __restrict out = band->data();
+    // Locals (not members) so that the compiler can count and vectorise.
+    const int a = inner, b = outer;
+    const int32_t wi = 2 * a + 1, wo = 2 * b + 1;
+    const int begin = std::min(b, n), end = std::max(begin, n - b);
+    for (int i = 0; i < begin; ++i) out[i] = 0;
+    // Four shifted views of the prefix sum.
+    const int32_t* __restrict inner_hi = p + a + 1;
+    const int32_t* __restrict inner_lo = p - a;
+    const int32_t* __restrict outer_hi = p + b + 1;
+    const int32_t* __restrict outer_lo = p - b;
+    for (int i = begin; i < end; ++i) {
+      out[i] = (inner_hi[i] - inner_lo[i]) * wo - (outer_hi[i] - outer_lo[i]) * wi;
+    }
+    for (int i = end; i < n; ++i) out[i] = 0;
+  }
+};
+
+struct Scratch {
+  std::vector<int32_t> band;
+  std::vector<int> candidates;
+  std::vector<uint8_t> flags;
+  std::vector<float> raw;
+  BandPass bandpass;
+};
+
+const ScanChannel* FindLaserChannel(const std::vector<ScanChannel>& channels, int laser_channel) {
+  for (const auto& c : channels) {
+    if (c.channel == laser_channel || c.channel == kMono) return &c;
+  }
+  return nullptr;
+}
+
+// Band-pass response at one sample, from the log-scaled samples around it
+// (same units as BandPass::Apply); 0 where the support leaves the line.
+int32_t LocalBand(const RowSamples& row, const std::vector<uint16_t>& table, int k, int inner,
+                  int outer) {
+  if (k - outer < 0 || k + outer >= row.count) return 0;
+  int32_t inner_sum = 0, outer_sum = 0;
+  for (int j = k - outer; j <= k + outer; ++j) {
+    const int32_t v = table[row.Value(j)];
+    outer_sum += v;
+    if (j >= k - inner && j <= k + inner) inner_sum += v;
+  }
+  return inner_sum * (2 * outer + 1) - outer_sum * (2 * inner + 1);
+}
+
+// §5.5: true if another colour responds at least as strongly as the laser's
+// colour at this position: on this row and, for a Bayer mosaic, on the rows
+// above and below (each colour is missing from every other row).
+bool StrongerInOtherChannel(const cv::Mat& image, ColourLayout layout, int row,
+                            const ScanChannel& laser, double position, int32_t response,
+                            const BandPass& bandpass) {
+  const auto& table = LogTable(image.depth());
+  const bool bayer = laser.stride == 2;
+  for (int r = bayer ? row - 1 : row; r <= (bayer ? row + 1 : row); ++r) {
+    if (r < 0 || r >= image.rows) continue;
+    for (const auto& c : ChannelsOnRow(layout, r)) {
+      if (c.channel == laser.channel) continue;
+      const RowSamples samples = RowChannel(image, layout, r, c);
+      const int k = static_cast<int>(std::lround((position - c.offset) / c.stride));
+      for (int j = k - 1; j <= k + 1; ++j) {
+        if (LocalBand(samples, table, j, bandpass.inner, bandpass.outer) >= response) return true;
+      }
+    }
+  }
+  return false;
+}
+
+// Thesis method, steps 1-4 and 7 on one scan line: peaks of the laser channel.
+void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const DetectorOptions& o,
+                   Scratch* s, std::vector<Peak>* peaks, DetectionStats* stats) {
+  const auto channels = ChannelsOnRow(layout, row);
+  const ScanChannel* laser = FindLaserChannel(channels, o.laser_channel);
+  if (!laser) return;  // e.g. a Bayer row without the laser's colour
+  const RowSamples samples = RowChannel(image, layout, row, *laser);
+  const double sigma = o.line_sigma_px / laser->stride;
+  BandPass& bandpass = s->bandpass;
+  bandpass.inner = std::max(1, static_cast<int>(std::lround(sigma)));
+  bandpass.outer = std::max(bandpass.inner + 2, static_cast<int>(std::lround(4.0 * sigma)));
+  bandpass.Apply(samples, LogTable(image.depth()), &s->band);  // steps 1 and 2
+  const double scale = bandpass.Scale();
+  const int32_t threshold = static_cast<int32_t>(std::ceil(o.min_strength * scale));
+  const int n = samples.count;
+  const int a = bandpass.inner, outer = bandpass.outer;
+  const int noise_half = std::max(outer + 2, o.noise_half_window_px / laser->stride);
+  const int32_t* band = s->band.data();
+  // Step 4, non-maximum suppression: local maxima above the threshold.
+  // Most samples are below the threshold: flag them in a vectorisable loop,
+  // then skip eight flags at a time.
+  auto& candidates = s->candidates;
+  candidates.clear();
+  auto& flags = s->flags;
+  flags.assign(n + 8, 0);
+  uint8_t* __restrict flag = flags.data();
+  const int32_t* __restrict band_r = band;
+  for (int i = 1; i + 1 < n; ++i) {
+    flag[i] = (band_r[i] >= threshold) & (band_r[i] >= band_r[i - 1]) & (band_r[i] > band_r[i + 1]);
+  }
+  for (int base = 0; base < n; base += 8) {
+    uint64_t word;
+    std::memcpy(&word, flag + base, sizeof(word));
+    if (!word) continue;
+    for (int i = base; i < base + 8; ++i) {
+      if (flag[i]) candidates.push_back(i);
+    }
+  }
+  for (const int i : candidates) {
+    const int32_t b = band[i];
+    bool is_max = true;
+    for (int j = std::max(0, i - a); j <= std::min(n - 1, i + a) && is_max; ++j) {
+      is_max = band[j] <= b || j == i;
+    }
+    if (!is_max) continue;
+    // Linear contrast, on both sides: a line stands above both flanks
+    // (outside the inner box), a step edge only above one of them.
+    int peak_value = samples.Value(i);
+    for (int j = std::max(0, i - 1); j <= std::min(n - 1, i + 1); ++j) {
+      peak_value = std::max(peak_value, samples.Value(j));
+    }
+    int left = 0, right = 0, left_count = 0, right_count = 0;
+    for (int j = std::max(0, i - outer); j < i - a; ++j) left += samples.Value(j), ++left_count;
+    for (int j = i + a + 1; j <= std::min(n - 1, i + outer); ++j) right += samples.Value(j), ++right_count;
+    if (left_count == 0 || right_count == 0) continue;
+    const double left_mean = double(left) / left_count, right_mean = double(right) / right_count;
+    const double contrast = peak_value - std::max(left_mean, right_mean);
+    if (contrast * samples.scale < o.min_contrast ||
+        contrast < 0.5 * (peak_value - std::min(left_mean, right_mean))) {
+      continue;
+    }
+    ++stats->candidate_peaks;
+    // Step 3: signal-to-noise against the mean |response| in a 1D window
+    // around the peak, leaving out the peak's own response (|j - i| <= b).
+    int64_t noise = 0;
+    const int lo_noise = std::max(0, i - noise_half), hi_noise = std::min(n - 1, i + noise_half);
+    const int lo_core = std::max(lo_noise, i - outer), hi_core = std::min(hi_noise, i + outer);
+    for (int j = lo_noise; j < lo_core; ++j) noise += std::abs(band[j]);
+    for (int j = hi_core + 1; j <= hi_noise; ++j) noise += std::abs(band[j]);
+    const int noise_count = (lo_core - lo_noise) + (hi_noise - hi_core);
+    if (noise_count > 0 && b * static_cast<double>(noise_count) < o.min_snr * noise) continue;
+    const double coarse = laser->offset + laser->stride * i;
+    if (o.cross_channel_suppression && laser->channel != kMono &&
+        StrongerInOtherChannel(image, layout, row, *laser, coarse, b, bandpass)) {
+      ++stats->suppressed_cross_channel;
+      continue;
+    }
+    peaks->push_back({row, coarse, static_cast<float>(b / scale), laser->channel, i,
+                      laser->offset, laser->stride});
+  }
+}
+
+// Step 7, run only on the selected peaks: Gaussian fit on the raw samples
+// around the raw maximum, above the darkest sample within the band-pass
+// support.
+double RefinePeak(const cv::Mat& image, ColourLayout layout, const Peak& peak,
+                  const DetectorOptions& o, std::vector<float>* raw) {
+  const RowSamples samples =
+      RowChannel(image, layout, peak.line, ScanChannel{peak.channel, peak.offset, peak.stride});
+  const int n = samples.count;
+  const int i = peak.sample;
+  int k = i;
+  if (i > 0 && samples.Value(i - 1) > samples.Value(k)) k = i - 1;
+  if (i + 1 < n && samples.Value(i + 1) > samples.Value(k)) k = i + 1;
+  if (peak.stride == 2 && peak.channel == kGreen) {
+    // A thin line is undersampled by one colour of the mosaic: fit on the
+    // green channel at full resolution instead (the rows above and below
+    // fill the gaps).
+    const double sigma = o.line_sigma_px;
+    const int outer = std::max(3, static_cast<int>(std::lround(4.0 * sigma)));
+    const int centre = peak.offset + 2 * k;
+    const int lo = std::max(0, centre - outer), hi = std::min(image.cols - 1, centre + outer);
+    FullResolutionGreen(image, layout, peak.line, lo, hi - lo + 1, raw);
+    int best = centre - lo;
+    for (int j = std::max(0, best - 1); j <= std::min(hi - lo, best + 1); ++j) {
+      if ((*raw)[j] > (*raw)[best]) best = j;
+    }
+    const float background = *std::min_element(raw->begin(), raw->end());
+    const int half_width = std::clamp(static_cast<int>(std::lround(sigma)), 1, 3);
+    return lo + GaussianPeakPosition(raw->data(), hi - lo + 1, best, half_width, background);
+  }
+  const double sigma = o.line_sigma_px / peak.stride;
+  const int outer = std::max(std::max(1, static_cast<int>(std::lround(sigma))) + 2,
+                             static_cast<int>(std::lround(4.0 * sigma)));
+  const int lo = std::max(0, k - outer), hi = std::min(n - 1, k + outer);
+  raw->resize(hi - lo + 1);
+  float background = samples.Raw(k);
+  for (int j = lo; j <= hi; ++j) {
+    (*raw)[j - lo] = samples.Raw(j);
+    background = std::min(background, (*raw)[j - lo]);
+  }
+  const int half_width = std::clamp(static_cast<int>(std::lround(sigma)), 1, 3);
+  const double position =
+      lo + GaussianPeakPosition(raw->data(), hi - lo + 1, k - lo, half_width, background);
+  return peak.offset + peak.stride * position;
+}
+
+// Baselines on one scan line: per-line argmax, or centre of gravity of the
+// samples above a fraction of the maximum around it. They read the raw
+// samples in place, as a plain implementation would.
+template <typename Pixel>
+void BaselineOnRow(const Pixel* data, const RowSamples& samples, const ScanChannel& laser, int row,
+                   const DetectorOptions& o, std::vector<Peak>* peaks) {
+  const int n = samples.count;
+  int k = 0;
+  Pixel best = data[0];
+  for (int i = 1; i < n; ++i) {
+    const Pixel value = data[i * samples.step];
+    if (value > best) best = value, k = i;
+  }
+  const float peak = best * samples.scale;
+  if (peak < o.min_peak_intensity) return;
+  double position = k;
+  if (o.method == Method::kCentreOfGravity) {
+    const float threshold = static_cast<float>(o.cog_threshold) * best;
+    int left = k, right = k;
+    while (left > 0 && data[(left - 1) * samples.step] >= threshold) --left;
+    while (right + 1 < n && data[(right + 1) * samples.step] >= threshold) ++right;
+    double sum = 0.0, weighted = 0.0;
+    for (int i = left; i <= right; ++i) {
+      const double w = data[i * samples.step] - threshold;
+      sum += w;
+      weighted += w * i;
+    }
+    if (sum > 0.0) position = weighted / sum;
+  }
+  peaks->push_back({row, laser.offset + laser.stride * position, peak, laser.channel, k,
+                    laser.offset, laser.stride});
+}
+
+void BaselineLinePeak(const cv::Mat& image, ColourLayout layout, int row, const DetectorOptions& o,
+                      std::vector<Peak>* peaks) {
+  const auto channels = ChannelsOnRow(layout, row);
+  const ScanChannel* laser = FindLaserChannel(channels, o.laser_channel);
+  if (!laser) return;
+  const RowSamples samples = RowChannel(image, layout, row, *laser);
+  if (samples.data8) BaselineOnRow(samples.data8 + samples.first, samples, *laser, row, o, peaks);
+  else BaselineOnRow(samples.data16 + samples.first, samples, *laser, row, o, peaks);
+}
+
+}  // namespace
+
+Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
+                          const DetectorOptions& options) {
+  options.Check();
+  UWS_CHECK(!image_in.empty(), "laser detection: empty image");
+  UWS_CHECK(image_in.depth() == CV_8U || image_in.depth() == CV_16U,
+            "laser detection: images must be 8- or 16-bit");
+  UWS_CHECK(image_in.channels() == (layout_in == ColourLayout::kBgr ? 3 : 1),
+            "laser detection: image has ", image_in.channels(), " channels, layout expects ",
+            layout_in == ColourLayout::kBgr ? 3 : 1);
+  // Scanning columns = scanning rows of the transposed image.
+  cv::Mat image = image_in;
+  ColourLayout layout = layout_in;
+  if (!options.scan_rows) {
+    cv::transpose(image_in, image);
+    layout = TransposedLayout(layout_in);
+  }
+  DetectorOptions o = options;
+  if (layout == ColourLayout::kMono) o.laser_channel = kMono;
+
+  Detection detection;
+  std::vector<Peak> peaks;
+  Scratch scratch;
+  std::vector<std::pair<int, int>> selected;
+  if (o.method == Method::kThesis) {
+    for (int row = 0; row < image.rows; ++row) {
+      FindLinePeaks(image, layout, row, o, &scratch, &peaks, &detection.stats);
+    }
+    const auto segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
+    detection.stats.segments = static_cast<int>(segments.size());
+    selected = SelectSegments(peaks, segments, image.rows, o.min_segment_lines,
+                              o.min_relative_strength);
+    for (const auto& [index, segment] : selected) {
+      peaks[index].position = RefinePeak(image, layout, peaks[index], o, &scratch.raw);
+    }
+    std::vector<bool> used(segments.size(), false);
+    for (const auto& [peak, segment] : selected) used[segment] = true;
+    detection.stats.selected_segments = static_cast<int>(std::count(used.begin(), used.end(), true));
+  } else {
+    for (int row = 0; row < image.rows; ++row) {
+      BaselineLinePeak(image, layout, row, o, &peaks);
+    }
+    for (size_t i = 0; i < peaks.size(); ++i) selected.emplace_back(static_cast<int>(i), 0);
+    detection.stats.candidate_peaks = static_cast<int>(peaks.size());
+  }
+
+  detection.points.reserve(selected.size());
+  for (const auto& [index, segment] : selected) {
+    const Peak& p = peaks[index];
+    LaserPoint point;
+    point.u = options.scan_rows ? p.position : p.line;
+    point.v = options.scan_rows ? p.line : p.position;
+    point.channel = p.channel;
+    point.strength = p.strength;
+    point.segment = segment;
+    detection.points.push_back(point);
+  }
+  if (options.make_mask) {
+    detection.mask = cv::Mat::zeros(image_in.size(), CV_8U);
+    const int half = static_cast<int>(std::ceil(options.mask_sigmas * options.line_sigma_px));
+    for (const auto& point : detection.points) {
+      const double along = options.scan_rows ? point.u : point.v;
+      const int line = static_cast<int>(options.scan_rows ? point.v : point.u);
+      const int limit = options.scan_rows ? image_in.cols : image_in.rows;
+      const int lo = std::max(0, static_cast<int>(std::floor(along)) - half);
+      const int hi = std::min(limit - 1, static_cast<int>(std::ceil(along)) + half);
+      for (int i = lo; i <= hi; ++i) {
+        if (options.scan_rows) detection.mask.at<uint8_t>(line, i) = 255;
+        else detection.mask.at<uint8_t>(i, line) = 255;
+      }
+    }
+  }
+  return detection;
+}
+
+}  // namespace uwscan::laser

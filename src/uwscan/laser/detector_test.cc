@@ -1,0 +1,214 @@
+#include "uwscan/laser/detector.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "uwscan/laser/segments.h"
+#include "uwscan/laser/subpixel.h"
+#include "uwscan/laser/synthetic_line.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan::laser {
+namespace {
+
+struct Score {
+  double rms = 0.0;          // px, over true points found within 1 px
+  double completeness = 0.0; // share of true rows found within 1 px
+  double outliers = 0.0;     // share of detections > 2 px from the truth
+  int detections = 0;
+};
+
+Score Evaluate(const Detection& detection, const SyntheticLine& line, bool scan_rows = true) {
+  std::map<int, double> truth;
+  for (const auto& p : line.truth) truth[static_cast<int>(scan_rows ? p.y : p.x)] = scan_rows ? p.x : p.y;
+  Score score;
+  double sum = 0.0;
+  int found = 0, outliers = 0;
+  for (const auto& p : detection.points) {
+    const int key = static_cast<int>(scan_rows ? p.v : p.u);
+    const double along = scan_rows ? p.u : p.v;
+    const auto it = truth.find(key);
+    const double error = it == truth.end() ? 1e9 : std::abs(along - it->second);
+    if (error > 2.0) ++outliers;
+    if (error <= 1.0) {
+      sum += error * error;
+      ++found;
+    }
+  }
+  score.detections = static_cast<int>(detection.points.size());
+  score.rms = found ? std::sqrt(sum / found) : 1e9;
+  score.completeness = truth.empty() ? 1.0 : static_cast<double>(found) / truth.size();
+  score.outliers = score.detections ? static_cast<double>(outliers) / score.detections : 0.0;
+  return score;
+}
+
+TEST(LaserDetector, SubPixelOnCleanMonoLine) {
+  SyntheticLineOptions o;
+  o.noise = 0.0;
+  o.texture = 0.0;
+  o.sixteen_bit = true;  // no quantisation: isolates the estimator
+  const SyntheticLine line = RenderSyntheticLine(o);
+  const Detection detection = DetectLaserLine(line.image, ColourLayout::kMono, DetectorOptions{});
+  const Score score = Evaluate(detection, line);
+  EXPECT_LT(score.rms, 0.01);
+  EXPECT_GT(score.completeness, 0.99);
+  EXPECT_EQ(score.outliers, 0.0);
+}
+
+TEST(LaserDetector, NoisyTexturedMono8Bit) {
+  SyntheticLineOptions o;
+  o.curvature = 0.001;
+  const SyntheticLine line = RenderSyntheticLine(o);
+  const Detection detection = DetectLaserLine(line.image, ColourLayout::kMono, DetectorOptions{});
+  const Score score = Evaluate(detection, line);
+  EXPECT_LT(score.rms, 0.1);
+  EXPECT_GT(score.completeness, 0.97);
+  EXPECT_LT(score.outliers, 0.01);
+  // The mask covers every detection.
+  for (const auto& p : detection.points) {
+    EXPECT_EQ(detection.mask.at<uint8_t>(static_cast<int>(p.v), static_cast<int>(std::lround(p.u))), 255);
+  }
+  EXPECT_GT(cv::countNonZero(detection.mask), 5 * static_cast<int>(detection.points.size()));
+}
+
+TEST(LaserDetector, RawBayerGreenLaserUnderRedLed) {
+  for (const auto layout : {ColourLayout::kBayerRggb, ColourLayout::kBayerGbrg}) {
+    SyntheticLineOptions o;
+    o.layout = layout;
+    o.sigma_px = 2.0;
+    const SyntheticLine line = RenderSyntheticLine(o);
+    DetectorOptions options;
+    options.line_sigma_px = 2.0;
+    const Detection detection = DetectLaserLine(line.image, layout, options);
+    const Score score = Evaluate(detection, line);
+    EXPECT_LT(score.rms, 0.15);
+    EXPECT_GT(score.completeness, 0.95);
+    EXPECT_LT(score.outliers, 0.01);
+    for (const auto& p : detection.points) EXPECT_EQ(p.channel, kGreen);
+  }
+}
+
+// A painted stripe lit by the LED looks like a line but has the LED's
+// colour; cross-channel suppression (§5.5) keeps it out, and the real line
+// wins.
+TEST(LaserDetector, PaintedStripeIsNotTakenForTheLaser) {
+  for (const auto layout : {ColourLayout::kBgr, ColourLayout::kBayerRggb}) {
+    SyntheticLineOptions o;
+    o.layout = layout;
+    o.stripe = true;
+    o.stripe_amplitude = 1.2;  // brighter than the laser in the raw image
+    const SyntheticLine line = RenderSyntheticLine(o);
+    const Detection detection = DetectLaserLine(line.image, layout, DetectorOptions{});
+    const Score score = Evaluate(detection, line);
+    EXPECT_GT(score.completeness, 0.95);
+    EXPECT_LT(score.outliers, 0.01);
+    EXPECT_GT(detection.stats.suppressed_cross_channel, 0);
+  }
+}
+
+TEST(LaserDetector, FrameWithoutLaserGivesNoPoints) {
+  SyntheticLineOptions o;
+  o.layout = ColourLayout::kBayerRggb;
+  o.first_row = 1 << 30;  // no lit row
+  o.stripe = true;
+  const SyntheticLine line = RenderSyntheticLine(o);
+  ASSERT_TRUE(line.truth.empty());
+  const Detection detection = DetectLaserLine(line.image, ColourLayout::kBayerRggb, DetectorOptions{});
+  EXPECT_TRUE(detection.points.empty()) << detection.points.size();
+  EXPECT_EQ(cv::countNonZero(detection.mask), 0);
+}
+
+TEST(LaserDetector, PartialLineAndHorizontalScan) {
+  SyntheticLineOptions o;
+  o.first_row = 60;
+  o.last_row = 180;
+  const SyntheticLine line = RenderSyntheticLine(o);
+  const Detection rows = DetectLaserLine(line.image, ColourLayout::kMono, DetectorOptions{});
+  const Score score = Evaluate(rows, line);
+  EXPECT_GT(score.completeness, 0.97);
+  EXPECT_LT(score.outliers, 0.01);
+  // The same image transposed, scanned along columns, gives the same points.
+  cv::Mat transposed;
+  cv::transpose(line.image, transposed);
+  DetectorOptions columns;
+  columns.scan_rows = false;
+  const Detection cols = DetectLaserLine(transposed, ColourLayout::kMono, columns);
+  ASSERT_EQ(cols.points.size(), rows.points.size());
+  for (size_t i = 0; i < rows.points.size(); ++i) {
+    EXPECT_DOUBLE_EQ(cols.points[i].u, rows.points[i].v);
+    EXPECT_DOUBLE_EQ(cols.points[i].v, rows.points[i].u);
+  }
+}
+
+TEST(LaserDetector, BaselinesRunAndAreLessPrecise) {
+  SyntheticLineOptions o;
+  const SyntheticLine line = RenderSyntheticLine(o);
+  DetectorOptions options;
+  const Score thesis = Evaluate(DetectLaserLine(line.image, ColourLayout::kMono, options), line);
+  options.method = Method::kArgmax;
+  const Score argmax = Evaluate(DetectLaserLine(line.image, ColourLayout::kMono, options), line);
+  options.method = Method::kCentreOfGravity;
+  const Score cog = Evaluate(DetectLaserLine(line.image, ColourLayout::kMono, options), line);
+  EXPECT_GT(argmax.completeness, 0.9);
+  EXPECT_GT(cog.completeness, 0.9);
+  EXPECT_GT(argmax.rms, 0.2);  // integer positions: ~0.29 px
+  EXPECT_LT(thesis.rms, cog.rms);
+}
+
+TEST(LaserDetector, SaturatedLineUsesFlankMidpoint) {
+  // Symmetric flanks around 4.5.
+  const float symmetric[9] = {0.1f, 0.2f, 0.6f, 1.0f, 1.0f, 1.0f, 1.0f, 0.6f, 0.2f};
+  EXPECT_NEAR(GaussianPeakPosition(symmetric, 9, 4, 2, 0.1f), 4.5, 1e-9);
+  // A clipped Gaussian at 10.3 (sigma 1.2, peak 3x the clip level).
+  float clipped[21];
+  for (int i = 0; i < 21; ++i) {
+    clipped[i] = std::min(1.0f, static_cast<float>(0.05 + 3.0 * std::exp(-0.5 * std::pow((i - 10.3) / 1.2, 2))));
+  }
+  EXPECT_NEAR(GaussianPeakPosition(clipped, 21, 10, 2, 0.05f), 10.3, 0.05);
+}
+
+TEST(LaserDetector, GaussianFitIsExactOnSampledGaussian) {
+  for (double centre : {10.0, 10.3, 9.55}) {
+    float samples[21];
+    for (int i = 0; i < 21; ++i) {
+      samples[i] = static_cast<float>(0.05 + 0.8 * std::exp(-0.5 * std::pow((i - centre) / 2.0, 2)));
+    }
+    const int k = static_cast<int>(std::lround(centre));
+    EXPECT_NEAR(GaussianPeakPosition(samples, 21, k, 2, 0.05f), centre, 1e-4);
+  }
+}
+
+TEST(LaserSegments, ScoreFollowsEquation51AndSelectionAvoidsOverlap) {
+  std::vector<Peak> peaks;
+  for (int line = 0; line < 10; ++line) {
+    peaks.push_back({line, 50.0 + 0.5 * line, 0.1f, kGreen});  // long, strong
+    if (line >= 3 && line < 7) peaks.push_back({line, 100.0, 0.5f, kGreen});  // short, bright
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.line < b.line; });
+  const auto segments = GroupPeaks(peaks, 2, 1);
+  ASSERT_EQ(segments.size(), 2u);
+  for (const auto& s : segments) {
+    double sum = 0.0;
+    for (int p : s.peaks) sum += peaks[p].strength;
+    EXPECT_DOUBLE_EQ(s.score, s.peaks.size() + 1e4 * sum);
+  }
+  // The short bright segment scores 4 + 2e4, the long one 10 + 1e4: the bright
+  // one is taken on its lines, the long one keeps its other six.
+  const auto selected = SelectSegments(peaks, segments, 10, 3);
+  EXPECT_EQ(selected.size(), 10u);
+  std::vector<int> lines;
+  for (const auto& [p, s] : selected) lines.push_back(peaks[p].line);
+  EXPECT_TRUE(std::is_sorted(lines.begin(), lines.end()));
+  EXPECT_EQ(std::adjacent_find(lines.begin(), lines.end()), lines.end());
+}
+
+TEST(LaserDetector, RejectsBadImages) {
+  EXPECT_THROW(DetectLaserLine(cv::Mat(), ColourLayout::kMono, DetectorOptions{}), Error);
+  EXPECT_THROW(DetectLaserLine(cv::Mat(10, 10, CV_32F), ColourLayout::kMono, DetectorOptions{}), Error);
+  EXPECT_THROW(DetectLaserLine(cv::Mat(10, 10, CV_8UC3), ColourLayout::kMono, DetectorOptions{}), Error);
+}
+
+}  // namespace
+}  // namespace uwscan::laser

@@ -1,0 +1,78 @@
+#include "uwscan/laser/profile.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+namespace uwscan::laser {
+namespace {
+
+// A laser 0.3 m right of the camera, its line vertical in the image.
+LineProjector TestLaser(double p1) {
+  LineProjector laser;
+  Eigen::Matrix3d rotation;
+  rotation.col(0) = Eigen::Vector3d(0, 1, 0);
+  rotation.col(2) = Eigen::Vector3d(-0.15, 0, 1).normalized();
+  rotation.col(1) = rotation.col(2).cross(rotation.col(0));
+  laser.camera_from_laser = Rigid3d(Eigen::Quaterniond(rotation), Eigen::Vector3d(0.3, 0, 0));
+  laser.p1 = p1;
+  return laser;
+}
+
+// Points where the (servo-turned) sheet meets a wall at z = 2 m, projected
+// exactly, come back from their pixels.
+TEST(LaserProfile, TriangulatesDetectionsOnAServo) {
+  const Camera camera = Camera::Flat3();
+  for (double p1 : {0.0, 0.03}) {
+    for (double angle : {-0.1, 0.0, 0.12}) {
+      const LineProjector laser = TestLaser(p1);
+      const Rigid3d pose = CameraFromLaserAtAngle(laser.camera_from_laser, angle);
+      std::vector<LaserPoint> detections;
+      std::vector<Eigen::Vector3d> truth;
+      for (double x = -0.5; x <= 0.5; x += 0.05) {
+        // Ray from the laser origin along (x, p1 x^2, 1), intersected with z = 2.
+        const Eigen::Vector3d direction = pose.rotation * Eigen::Vector3d(x, p1 * x * x, 1.0);
+        const double lambda = (2.0 - pose.translation.z()) / direction.z();
+        const Eigen::Vector3d point = pose.translation + lambda * direction;
+        const auto pixel = camera.Project(point);
+        if (!pixel || !camera.InImage(*pixel)) continue;
+        detections.push_back({pixel->x(), pixel->y(), kGreen, 1.0f, 0});
+        truth.push_back(point);
+      }
+      ASSERT_GT(detections.size(), 10u);
+      const Profile profile = TriangulateProfile(camera, laser, pose, detections, 7);
+      EXPECT_EQ(profile.frame, 7);
+      EXPECT_EQ(profile.failed, 0);
+      ASSERT_EQ(profile.points.size(), truth.size());
+      for (size_t i = 0; i < truth.size(); ++i) {
+        EXPECT_LT((profile.points[i].point_in_camera - truth[i]).norm(), 1e-9);
+      }
+    }
+  }
+}
+
+TEST(LaserProfile, ServoTurnsAboutTheLineDirection) {
+  const LineProjector laser = TestLaser(0.0);
+  const Rigid3d turned = CameraFromLaserAtAngle(laser.camera_from_laser, 0.3);
+  // The line direction (laser x) and the origin stay; the sheet normal turns by 0.3 rad.
+  EXPECT_LT((turned.rotation * Eigen::Vector3d::UnitX() -
+             laser.camera_from_laser.rotation * Eigen::Vector3d::UnitX()).norm(), 1e-15);
+  EXPECT_EQ(turned.translation, laser.camera_from_laser.translation);
+  const double cosine = (turned.rotation * Eigen::Vector3d::UnitY())
+                            .dot(laser.camera_from_laser.rotation * Eigen::Vector3d::UnitY());
+  EXPECT_NEAR(std::acos(cosine), 0.3, 1e-12);
+}
+
+TEST(LaserProfile, MissesAreCountedNotReturned) {
+  const Camera camera = Camera::Flat1();
+  const LineProjector laser = TestLaser(0.0);
+  // A pixel far left: its ray runs away from the laser on the right, and a
+  // pixel outside the lens's valid region.
+  std::vector<LaserPoint> detections = {{5.0, 480.0, kGreen, 1.0f, 0}};
+  const Profile profile = TriangulateProfile(camera, laser, laser.camera_from_laser, detections);
+  EXPECT_EQ(profile.points.size() + profile.failed, 1u);
+  for (const auto& p : profile.points) EXPECT_TRUE(p.point_in_camera.allFinite());
+}
+
+}  // namespace
+}  // namespace uwscan::laser

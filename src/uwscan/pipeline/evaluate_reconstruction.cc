@@ -1,0 +1,61 @@
+#include "uwscan/pipeline/evaluate_reconstruction.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "uwscan/io/dataset.h"
+#include "uwscan/io/ply.h"
+#include "uwscan/io/tum.h"
+#include "uwscan/sim/scene_yaml.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace fs = std::filesystem;
+
+nlohmann::json ReconstructionEvaluation::ToJson() const {
+  return {{"compensated", compensated.ToJson()}, {"uncompensated", uncompensated.ToJson()}};
+}
+
+std::map<int, Rigid3d> PosesByFrame(const fs::path& tum, const fs::path& frames_csv) {
+  const auto frames = ReadFramesCsv(frames_csv);
+  const auto poses = ReadTum(tum);
+  UWS_CHECK(!frames.empty(), frames_csv.string(), ": no frames");
+  double interval = 1.0;
+  if (frames.size() > 1) {
+    interval = (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1);
+  }
+  std::map<int, Rigid3d> by_frame;
+  for (const auto& pose : poses) {
+    const auto nearest = std::min_element(frames.begin(), frames.end(), [&](const auto& a, const auto& b) {
+      return std::abs(a.timestamp_s - pose.timestamp_s) < std::abs(b.timestamp_s - pose.timestamp_s);
+    });
+    if (std::abs(nearest->timestamp_s - pose.timestamp_s) <= 0.5 * interval + 1e-9) {
+      by_frame[nearest->index] = pose.world_from_camera;
+    }
+  }
+  return by_frame;
+}
+
+ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const fs::path& result) {
+  UWS_CHECK(fs::exists(dataset / "scene.yaml"), (dataset / "scene.yaml").string(),
+            ": missing: evaluation needs a simulated dataset with its scene");
+  UWS_CHECK(fs::exists(dataset / "groundtruth.tum"), (dataset / "groundtruth.tum").string(),
+            ": missing: evaluation needs the true trajectory");
+  sim::Scenario scenario = sim::LoadDatasetScenario(dataset);
+  scenario.config.scene.Prepare();
+  const Camera& camera = scenario.config.rig.cameras.front();
+  const auto truth = PosesByFrame(dataset / "groundtruth.tum", dataset / "frames.csv");
+  const auto estimated = PosesByFrame(result / "trajectory.tum", dataset / "frames.csv");
+  UWS_CHECK(!estimated.empty(), (result / "trajectory.tum").string(), ": no pose matches a frame");
+  // The uncompensated cloud places every profile with the first pose.
+  std::map<int, Rigid3d> first_everywhere;
+  for (const auto& [frame, pose] : truth) first_everywhere[frame] = estimated.begin()->second;
+  ReconstructionEvaluation evaluation;
+  evaluation.compensated = EvaluateCloud(ReadPly(result / "cloud.ply"), estimated, truth, camera,
+                                         scenario.config.scene);
+  evaluation.uncompensated = EvaluateCloud(ReadPly(result / "cloud_uncompensated.ply"),
+                                           first_everywhere, truth, camera, scenario.config.scene);
+  return evaluation;
+}
+
+}  // namespace uwscan

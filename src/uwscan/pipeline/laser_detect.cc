@@ -1,0 +1,173 @@
+#include "uwscan/pipeline/laser_detect.h"
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "uwscan/io/rig_yaml.h"
+#include "uwscan/laser/profile.h"
+#include "uwscan/util/atomic_file.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace fs = std::filesystem;
+
+void LaserDetectJob::Check() const {
+  detector.Check();
+  UWS_CHECK(scan == "rows" || scan == "cols" || scan == "auto", "--scan must be rows, cols or auto");
+  UWS_CHECK(channel == "red" || channel == "green" || channel == "blue" || channel == "auto",
+            "--channel must be red, green, blue or auto");
+  UWS_CHECK(!profiles_csv || rig_path, "--profiles needs a rig (--rig or --dataset)");
+}
+
+std::vector<fs::path> ListImages(const fs::path& dir) {
+  std::error_code error;
+  UWS_CHECK(fs::is_directory(dir, error), dir.string(), ": not a folder");
+  std::vector<fs::path> images;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (!entry.is_regular_file()) continue;
+    std::string ext = entry.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff" ||
+        ext == ".pgm" || ext == ".ppm" || ext == ".bmp") {
+      images.push_back(entry.path());
+    }
+  }
+  std::sort(images.begin(), images.end());
+  UWS_CHECK(!images.empty(), dir.string(), ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder");
+  return images;
+}
+
+bool LaserLineIsVertical(const Camera& camera, const Rigid3d& camera_from_laser) {
+  double du = 0.0, dv = 0.0;
+  for (double z : {1.0, 2.0, 3.0}) {
+    const auto a = camera.Project(camera_from_laser * Eigen::Vector3d(-0.1 * z, 0.0, z));
+    const auto b = camera.Project(camera_from_laser * Eigen::Vector3d(0.1 * z, 0.0, z));
+    if (!a || !b) continue;
+    du += std::abs(b->x() - a->x());
+    dv += std::abs(b->y() - a->y());
+  }
+  return dv >= du;
+}
+
+namespace {
+
+cv::Mat OverlayImage(const cv::Mat& image, laser::ColourLayout layout,
+                     const laser::Detection& detection) {
+  cv::Mat bgr;
+  cv::Mat eight = image;
+  if (image.depth() == CV_16U) image.convertTo(eight, CV_8U, 1.0 / 256.0);
+  switch (layout) {
+    case laser::ColourLayout::kBgr: bgr = eight.clone(); break;
+    case laser::ColourLayout::kMono: cv::cvtColor(eight, bgr, cv::COLOR_GRAY2BGR); break;
+    // OpenCV names Bayer codes by the second row's pattern start.
+    case laser::ColourLayout::kBayerRggb: cv::cvtColor(eight, bgr, cv::COLOR_BayerBG2BGR); break;
+    case laser::ColourLayout::kBayerBggr: cv::cvtColor(eight, bgr, cv::COLOR_BayerRG2BGR); break;
+    case laser::ColourLayout::kBayerGrbg: cv::cvtColor(eight, bgr, cv::COLOR_BayerGB2BGR); break;
+    case laser::ColourLayout::kBayerGbrg: cv::cvtColor(eight, bgr, cv::COLOR_BayerGR2BGR); break;
+  }
+  for (const auto& p : detection.points) {
+    const int u = static_cast<int>(std::lround(p.u)), v = static_cast<int>(std::lround(p.v));
+    if (u >= 0 && v >= 0 && u < bgr.cols && v < bgr.rows) bgr.at<cv::Vec3b>(v, u) = {255, 0, 255};
+  }
+  return bgr;
+}
+
+void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
+  std::vector<uchar> buffer;
+  UWS_CHECK(cv::imencode(path.extension().string(), image, buffer), path.string(), ": cannot encode");
+  AtomicFile file(path, /*binary=*/true);
+  file.stream().write(reinterpret_cast<const char*>(buffer.data()), buffer.size());
+  file.Commit();
+}
+
+}  // namespace
+
+LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
+  job.Check();
+  const auto start = std::chrono::steady_clock::now();
+  const auto images = ListImages(job.images_dir);
+  std::optional<Rig> rig;
+  if (job.rig_path) rig = ReadRigYaml(*job.rig_path);
+  const Camera* camera = rig ? &rig->CameraByName(job.camera_name) : nullptr;
+  const LineProjector* laser = rig && !rig->lasers.empty() ? &rig->LaserByName(job.laser_name) : nullptr;
+  UWS_CHECK(!job.profiles_csv || laser, job.rig_path->string(), ": --profiles needs a laser in the rig");
+  UWS_CHECK(job.laser_angles_rad.empty() || job.laser_angles_rad.size() == images.size(),
+            "laser angles: ", job.laser_angles_rad.size(), " angles for ", images.size(), " frames");
+  size_t camera_index = 0, laser_index = 0;
+  if (rig) {
+    camera_index = camera - rig->cameras.data();
+    if (laser) laser_index = laser - rig->lasers.data();
+  }
+  const Rigid3d camera_from_laser =
+      laser ? rig->CameraFromLaser(camera_index, laser_index) : Rigid3d();
+
+  laser::DetectorOptions options = job.detector;
+  if (job.scan != "auto") options.scan_rows = job.scan == "rows";
+  else if (camera && laser) options.scan_rows = LaserLineIsVertical(*camera, camera_from_laser);
+  if (job.channel == "red") options.laser_channel = laser::kRed;
+  else if (job.channel == "green") options.laser_channel = laser::kGreen;
+  else if (job.channel == "blue") options.laser_channel = laser::kBlue;
+  else if (laser) options.laser_channel = laser::ChannelForWavelength(laser->wavelength_nm);
+  options.make_mask = false;  // not written by this command
+  if (job.overlay_dir) fs::create_directories(*job.overlay_dir);
+
+  AtomicFile detections(job.detections_csv);
+  detections.stream() << "frame,u,v,channel,strength\n";
+  std::optional<AtomicFile> profiles;
+  if (job.profiles_csv) {
+    profiles.emplace(*job.profiles_csv);
+    profiles->stream() << "frame,x,y,z\n";
+  }
+  char line[160];
+  LaserDetectSummary summary;
+  for (size_t frame = 0; frame < images.size(); ++frame) {
+    const cv::Mat image = cv::imread(images[frame].string(), cv::IMREAD_UNCHANGED);
+    ++summary.frames;
+    if (image.empty()) {
+      std::cerr << "uwscan: warning: " << images[frame].string()
+                << ": unreadable or truncated image, frame " << frame << " has no detections\n";
+      ++summary.unreadable_frames;
+      continue;
+    }
+    if (camera) {
+      UWS_CHECK(image.cols == camera->width && image.rows == camera->height, images[frame].string(),
+                ": image is ", image.cols, "x", image.rows, " but camera '", camera->name, "' is ",
+                camera->width, "x", camera->height);
+    }
+    UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, images[frame].string(),
+              ": only 8- and 16-bit images are supported");
+    const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
+    const laser::Detection detection = laser::DetectLaserLine(image, layout, options);
+    if (detection.points.empty()) ++summary.frames_without_line;
+    summary.points += detection.points.size();
+    for (const auto& p : detection.points) {
+      std::snprintf(line, sizeof(line), "%zu,%.4f,%.4f,%d,%.5g\n", frame, p.u, p.v, p.channel, p.strength);
+      detections.stream() << line;
+    }
+    if (profiles) {
+      const double angle = job.laser_angles_rad.empty() ? 0.0 : job.laser_angles_rad[frame];
+      const auto profile = laser::TriangulateProfile(
+          *camera, *laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), detection.points,
+          static_cast<int>(frame));
+      summary.profile_points += profile.points.size();
+      for (const auto& p : profile.points) {
+        std::snprintf(line, sizeof(line), "%zu,%.7f,%.7f,%.7f\n", frame, p.point_in_camera.x(),
+                      p.point_in_camera.y(), p.point_in_camera.z());
+        profiles->stream() << line;
+      }
+    }
+    if (job.overlay_dir) {
+      WriteImageAtomic(*job.overlay_dir / (images[frame].stem().string() + ".png"),
+                       OverlayImage(image, layout, detection));
+    }
+  }
+  detections.Commit();
+  if (profiles) profiles->Commit();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace uwscan

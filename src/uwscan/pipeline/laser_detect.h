@@ -1,0 +1,49 @@
+// Controller of `uwscan laser detect`: streams images through the laser
+// detector, writes detections (and optionally profiles and overlays).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uwscan/laser/detector.h"
+#include "uwscan/sensor/rig.h"
+
+namespace uwscan {
+
+struct LaserDetectJob {
+  std::filesystem::path images_dir;      // all images in it, sorted by name
+  std::optional<std::filesystem::path> rig_path;
+  std::string camera_name;               // default: the first camera
+  std::string laser_name;                // default: the first laser
+  std::filesystem::path detections_csv;  // frame,u,v,channel,strength
+  std::optional<std::filesystem::path> profiles_csv;  // frame,x,y,z (needs a rig with a laser)
+  std::optional<std::filesystem::path> overlay_dir;
+  std::string scan = "auto";             // rows | cols | auto (from the rig)
+  std::string channel = "auto";          // red | green | blue | auto (laser wavelength)
+  laser::DetectorOptions detector;
+  std::vector<double> laser_angles_rad;  // per frame, when the laser is on a servo
+  bool quiet = false;
+  void Check() const;
+};
+
+struct LaserDetectSummary {
+  int frames = 0;
+  int frames_without_line = 0;
+  int unreadable_frames = 0;
+  long points = 0;
+  long profile_points = 0;
+  double seconds = 0.0;
+};
+
+// Image files of a folder, sorted by name (png, jpg, jpeg, tif, tiff, pgm, ppm, bmp).
+std::vector<std::filesystem::path> ListImages(const std::filesystem::path& dir);
+
+// Whether to scan along rows: true when the laser line runs more vertically
+// than horizontally in the image (projected sheet points at 1-3 m).
+bool LaserLineIsVertical(const Camera& camera, const Rigid3d& camera_from_laser);
+
+LaserDetectSummary RunLaserDetect(const LaserDetectJob& job);
+
+}  // namespace uwscan

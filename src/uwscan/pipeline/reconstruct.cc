@@ -1,0 +1,177 @@
+#include "uwscan/pipeline/reconstruct.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <iostream>
+
+#include "uwscan/io/dataset.h"
+#include "uwscan/io/image.h"
+#include "uwscan/io/ply.h"
+#include "uwscan/io/rig_yaml.h"
+#include "uwscan/io/tum.h"
+#include "uwscan/laser/profile.h"
+#include "uwscan/pipeline/laser_detect.h"
+#include "uwscan/util/atomic_file.h"
+#include "uwscan/util/error.h"
+#include "uwscan/util/progress.h"
+
+namespace uwscan {
+namespace fs = std::filesystem;
+
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+uint8_t ToByte(float value) { return static_cast<uint8_t>(std::clamp(value * 255.0f, 0.0f, 255.0f)); }
+
+}  // namespace
+
+void ReconstructJob::Check() const {
+  detector.Check();
+  UWS_CHECK(max_frames >= 0, "--max-frames must be >= 0");
+  UWS_CHECK(!out.empty(), "--out: empty output folder name");
+}
+
+nlohmann::json ReconstructReport::ToJson() const {
+  return {{"frames", frames},
+          {"frames_with_line", frames_with_line},
+          {"frames_without_pose", frames_without_pose},
+          {"points", points},
+          {"points_uncompensated", points_uncompensated},
+          {"triangulation_failures", triangulation_failures},
+          {"pose_source", pose_source},
+          {"pose", pose_details},
+          {"timing_s",
+           {{"total", seconds},
+            {"laser_detection", seconds_detect},
+            {"triangulation", seconds_triangulate},
+            {"pose_estimation", seconds_pose},
+            {"io", seconds_io}}},
+          {"sequence_duration_s", sequence_duration_s},
+          {"real_time_factor", RealTimeFactor()}};
+}
+
+std::unique_ptr<fusion::PoseProvider> MakeSelfReferencedProvider(const Rig& rig, size_t camera,
+                                                                 size_t laser,
+                                                                 const laser::DetectorOptions& detector);
+
+ReconstructReport RunReconstruct(const ReconstructJob& job,
+                                 std::unique_ptr<fusion::PoseProvider> provider) {
+  job.Check();
+  const auto start = std::chrono::steady_clock::now();
+  const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
+  const Camera& camera = rig.CameraByName(job.camera_name);
+  const LineProjector& laser = rig.LaserByName(job.laser_name);
+  const size_t camera_index = &camera - rig.cameras.data();
+  const size_t laser_index = &laser - rig.lasers.data();
+  const Rigid3d camera_from_laser = rig.CameraFromLaser(camera_index, laser_index);
+  auto frames = ReadFramesCsv(job.dataset / "frames.csv");
+  UWS_CHECK(!frames.empty(), (job.dataset / "frames.csv").string(), ": no frames");
+  if (job.max_frames > 0 && static_cast<int>(frames.size()) > job.max_frames) frames.resize(job.max_frames);
+
+  laser::DetectorOptions detector = job.detector;
+  detector.scan_rows = LaserLineIsVertical(camera, camera_from_laser);
+  detector.laser_channel = laser::ChannelForWavelength(laser.wavelength_nm);
+  detector.make_mask = true;
+
+  if (!provider && job.poses_file) {
+    provider = std::make_unique<fusion::TrajectoryPoseProvider>(ReadTum(*job.poses_file),
+                                                                job.poses_file->string());
+  }
+  if (!provider) provider = MakeSelfReferencedProvider(rig, camera_index, laser_index, detector);
+
+  std::error_code error;
+  fs::create_directories(job.out, error);
+  UWS_CHECK(!error, job.out.string(), ": cannot create output folder: ", error.message());
+  PlyStreamWriter cloud(job.out / "cloud.ply");
+  PlyStreamWriter uncompensated(job.out / "cloud_uncompensated.ply");
+  TumWriter trajectory(job.out / "trajectory.tum");
+
+  ReconstructReport report;
+  report.pose_source = provider->Name();
+  report.sequence_duration_s = frames.size() > 1
+                                   ? frames.back().timestamp_s - frames.front().timestamp_s +
+                                         (frames.back().timestamp_s - frames.front().timestamp_s) /
+                                             (frames.size() - 1)
+                                   : 0.0;
+  ProgressBar progress("reconstruct", static_cast<long>(frames.size()), !job.quiet);
+  std::optional<Rigid3d> first_pose;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const FrameRecord& record = frames[i];
+    auto t = std::chrono::steady_clock::now();
+    const cv::Mat image = ReadImage(job.dataset / record.file);
+    UWS_CHECK(image.cols == camera.width && image.rows == camera.height, (job.dataset / record.file).string(),
+              ": image is ", image.cols, "x", image.rows, " but camera '", camera.name, "' is ",
+              camera.width, "x", camera.height);
+    report.seconds_io += Seconds(t);
+
+    t = std::chrono::steady_clock::now();
+    const auto layout = laser::LayoutFor(camera.bayer, image.channels());
+    const laser::Detection detection = laser::DetectLaserLine(image, layout, detector);
+    report.seconds_detect += Seconds(t);
+
+    t = std::chrono::steady_clock::now();
+    const double angle = record.laser_angle_rad.value_or(0.0);
+    const laser::Profile profile = laser::TriangulateProfile(
+        camera, laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), detection.points,
+        record.index);
+    report.triangulation_failures += profile.failed;
+    report.seconds_triangulate += Seconds(t);
+
+    t = std::chrono::steady_clock::now();
+    fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
+    const std::optional<Rigid3d> pose = provider->Pose(input);
+    report.seconds_pose += Seconds(t);
+
+    t = std::chrono::steady_clock::now();
+    ++report.frames;
+    if (!detection.points.empty()) ++report.frames_with_line;
+    if (!pose) {
+      ++report.frames_without_pose;
+    } else {
+      if (!first_pose) first_pose = *pose;
+      trajectory.Add({record.timestamp_s, *pose});
+      const Rigid3d& placed = job.motion_compensation ? *pose : *first_pose;
+      for (const auto& p : profile.points) {
+        CloudPoint point;
+        point.intensity = p.strength;
+        point.red = point.green = point.blue = ToByte(p.strength * 4.0f);
+        point.frame = record.index;
+        point.position = placed * p.point_in_camera;
+        cloud.Add(point);
+        point.position = *first_pose * p.point_in_camera;
+        uncompensated.Add(point);
+      }
+      report.points += static_cast<long>(profile.points.size());
+      report.points_uncompensated += static_cast<long>(profile.points.size());
+    }
+    report.seconds_io += Seconds(t);
+    progress.Update(static_cast<long>(i + 1));
+  }
+  progress.Finish();
+  UWS_CHECK(first_pose.has_value(), job.dataset.string(), ": no frame got a pose (", provider->Name(), ")");
+  cloud.Close();
+  uncompensated.Close();
+  trajectory.Commit();
+  report.seconds = Seconds(start);
+  nlohmann::json json = report.ToJson();
+  json["dataset"] = fs::absolute(job.dataset).string();
+  json["motion_compensation"] = job.motion_compensation;
+  WriteFileAtomic(job.out / "report.json", json.dump(2) + "\n");
+  return report;
+}
+
+}  // namespace uwscan
+
+namespace uwscan {
+
+// Until the self-referenced odometry is wired in, reconstruct needs --poses.
+std::unique_ptr<fusion::PoseProvider> MakeSelfReferencedProvider(const Rig&, size_t, size_t,
+                                                                 const laser::DetectorOptions&) {
+  throw UsageError("self-referenced pose estimation is not available in this build; pass --poses FILE");
+}
+
+}  // namespace uwscan

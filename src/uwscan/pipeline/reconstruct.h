@@ -1,0 +1,53 @@
+// Controller of `uwscan reconstruct`: streams a dataset through laser
+// detection, triangulation and pose estimation and places every laser
+// profile in the world (architecture.md, "Data flow").
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "uwscan/fusion/pose_provider.h"
+#include "uwscan/laser/detector.h"
+
+namespace uwscan {
+
+struct ReconstructJob {
+  std::filesystem::path dataset;
+  std::filesystem::path out;
+  std::optional<std::filesystem::path> poses_file;  // external trajectory (TUM) instead of VO
+  bool motion_compensation = true;  // false: cloud.ply too is placed with the first pose
+  std::string camera_name;          // default: the first camera
+  std::string laser_name;           // default: the first laser
+  laser::DetectorOptions detector;  // scan direction and colour come from the rig
+  int max_frames = 0;               // 0: all
+  bool quiet = false;
+  void Check() const;
+};
+
+struct ReconstructReport {
+  int frames = 0;
+  int frames_with_line = 0;
+  int frames_without_pose = 0;
+  long points = 0;
+  long points_uncompensated = 0;
+  long triangulation_failures = 0;
+  double seconds = 0.0;
+  double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
+  double sequence_duration_s = 0.0;  // from the frame timestamps
+  std::string pose_source;
+  nlohmann::json pose_details;  // statistics of the pose provider
+
+  double RealTimeFactor() const { return seconds > 0 ? sequence_duration_s / seconds : 0.0; }
+  nlohmann::json ToJson() const;
+};
+
+// Uses `provider` if given, else the job's --poses file, else the
+// self-referenced visual odometry. Writes OUT/cloud.ply,
+// OUT/cloud_uncompensated.ply, OUT/trajectory.tum and OUT/report.json.
+ReconstructReport RunReconstruct(const ReconstructJob& job,
+                                 std::unique_ptr<fusion::PoseProvider> provider = nullptr);
+
+}  // namespace uwscan

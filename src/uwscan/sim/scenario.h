@@ -1,0 +1,71 @@
+// Named scenarios (issue 3, thesis chapter 6): a scene, a rig, lights, a
+// medium and a motion, ready to render frame by frame.
+//   tank-target      §6.4: checkerboard (3 cm squares) on the sea floor at
+//                    ~2 m, hovering ROV, green laser on a servo, red LED
+//   hull             §6.5: hull section and propeller shaft, hovering
+//   seabed-transect  textured floor with a pipeline, 2 m altitude, 20 m run
+//   aquarium         §6.1: camera behind an aquarium window, checkerboard
+//                    views in air (calib/air) and in water (calib/water)
+//   laser-tilt       §6.2: laser tilted behind its own port, target at two
+//                    distances (calib/laser)
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uwscan/sim/motion.h"
+#include "uwscan/sim/renderer.h"
+
+namespace uwscan::sim {
+
+const std::vector<std::string>& ScenarioNames();
+
+// Unset fields take the scenario's default.
+struct ScenarioOptions {
+  std::optional<int> frames;
+  std::optional<int> width, height;  // intrinsics scale with the resolution
+  uint64_t seed = 1;
+  std::optional<std::string> turbidity;    // preset or c_p(530) in 1/m
+  std::optional<double> motion_amplitude;  // rms translation (m); rotation scales along
+  std::optional<double> laser_power_w;
+  std::optional<OutputFormat> output;
+  std::optional<int> bits;
+  int threads = 2;
+
+  void Check() const;  // throws uwscan::Error naming the option
+};
+
+// A set of calibration images (calib/NAME): its own rig and views.
+struct CalibrationSet {
+  std::string name;  // air | water | laser
+  SimConfig config;
+  std::vector<FrameState> views;
+};
+
+struct Scenario {
+  std::string name;
+  uint64_t seed = 1;  // noise and texture streams
+  SimConfig config;
+  MotionOptions motion;
+  int frames = 10;
+  double frame_rate_hz = 10.0;
+  // Servo sweep of every laser source, linear from start to end over the
+  // sequence (zero for lasers without servo).
+  double servo_start_rad = 0.0, servo_end_rad = 0.0;
+  std::vector<CalibrationSet> calibration;
+
+  double TimeOf(int frame) const { return frame / frame_rate_hz; }
+  double ServoAngle(int frame) const;
+  // The frame's pose, servo angles and noise seed.
+  FrameState FrameAt(const Trajectory& trajectory, int frame) const;
+};
+
+// Throws uwscan::UsageError for an unknown name, uwscan::Error for bad options.
+Scenario MakeScenario(const std::string& name, const ScenarioOptions& options);
+
+// The thesis camera (Tab. 6.3, flat port) scaled to a resolution.
+Camera ThesisCamera(int width, int height);
+
+}  // namespace uwscan::sim

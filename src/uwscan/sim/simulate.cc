@@ -1,0 +1,137 @@
+#include "uwscan/sim/simulate.h"
+
+#include <unistd.h>
+
+#include <chrono>
+
+#include "uwscan/io/dataset.h"
+#include "uwscan/io/image.h"
+#include "uwscan/io/rig_yaml.h"
+#include "uwscan/io/tum.h"
+#include "uwscan/sim/scene_yaml.h"
+#include "uwscan/util/error.h"
+#include "uwscan/util/progress.h"
+
+namespace uwscan::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Removes the temporary folder unless released.
+class TemporaryFolder {
+ public:
+  explicit TemporaryFolder(fs::path path) : path_(std::move(path)) {}
+  ~TemporaryFolder() {
+    if (!released_) {
+      std::error_code ignored;
+      fs::remove_all(path_, ignored);
+    }
+  }
+  void Release() { released_ = true; }
+
+ private:
+  fs::path path_;
+  bool released_ = false;
+};
+
+void CreateFolder(const fs::path& path) {
+  std::error_code error;
+  fs::create_directories(path, error);
+  UWS_CHECK(!error, path.string(), ": cannot create folder: ", error.message());
+}
+
+// A calibration set: a dataset folder of its own (rig.yaml, frames.csv,
+// frames/, groundtruth.tum with world = the target's frame).
+void WriteCalibrationSet(const CalibrationSet& set, const fs::path& folder, ProgressBar* progress,
+                         long* done) {
+  CreateFolder(folder / "frames");
+  WriteRigYaml(folder / "rig.yaml", set.config.rig);
+  const Renderer renderer(set.config);
+  FramesCsvWriter frames(folder / "frames.csv", false);
+  TumWriter truth(folder / "groundtruth.tum");
+  for (size_t i = 0; i < set.views.size(); ++i) {
+    const FrameState& state = set.views[i];
+    const RenderedFrame frame = renderer.Render(state);
+    const std::string file = FrameFileName(static_cast<int>(i));
+    WritePng(folder / file, frame.image);
+    frames.Add({static_cast<int>(i), static_cast<double>(i), file, std::nullopt});
+    truth.Add({static_cast<double>(i), state.world_from_camera});
+    progress->Update(++*done);
+  }
+  frames.Commit();
+  truth.Commit();
+}
+
+}  // namespace
+
+SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, bool show_progress) {
+  const auto start = std::chrono::steady_clock::now();
+  UWS_CHECK(!out_dir.empty(), "--out: empty output folder name");
+  std::error_code error;
+  if (fs::exists(out_dir, error)) {
+    UWS_CHECK(fs::is_directory(out_dir, error), out_dir.string(), ": exists and is not a folder");
+    UWS_CHECK(fs::is_empty(out_dir, error), out_dir.string(),
+              ": output folder exists and is not empty (refusing to overwrite)");
+  }
+  const fs::path final_dir = fs::absolute(out_dir).lexically_normal();
+  fs::path temp_dir = final_dir.parent_path() /
+                      (final_dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  CreateFolder(temp_dir / "frames");
+  TemporaryFolder guard(temp_dir);
+
+  WriteRigYaml(temp_dir / "rig.yaml", scenario.config.rig);
+  WriteSceneYaml(temp_dir / "scene.yaml", scenario);
+
+  long total = scenario.frames;
+  for (const auto& set : scenario.calibration) total += static_cast<long>(set.views.size());
+  ProgressBar progress("simulate " + scenario.name, total, show_progress);
+  long done = 0;
+
+  SimulateResult result;
+  {
+    const Renderer renderer(scenario.config);
+    const Trajectory trajectory(scenario.motion);
+    const bool with_angle = !scenario.config.lasers.empty();
+    FramesCsvWriter frames(temp_dir / "frames.csv", with_angle);
+    TumWriter truth(temp_dir / "groundtruth.tum");
+    LaserTruthWriter laser_truth(temp_dir / "laser_gt.csv");
+    for (int i = 0; i < scenario.frames; ++i) {
+      const FrameState state = scenario.FrameAt(trajectory, i);
+      const RenderedFrame frame = renderer.Render(state);
+      const std::string file = FrameFileName(i);
+      WritePng(temp_dir / file, frame.image);
+      std::optional<double> angle;
+      if (with_angle) angle = state.laser_angles_rad.front();
+      frames.Add({i, scenario.TimeOf(i), file, angle});
+      truth.Add({scenario.TimeOf(i), state.world_from_camera});
+      for (const LaserPoint& point : renderer.LaserGroundTruth(state)) {
+        laser_truth.Add({i, point.laser, point.pixel.x(), point.pixel.y(), point.point_in_camera.x(),
+                         point.point_in_camera.y(), point.point_in_camera.z()});
+        ++result.laser_points;
+      }
+      progress.Update(++done);
+    }
+    frames.Commit();
+    truth.Commit();
+    laser_truth.Commit();
+  }
+  for (const auto& set : scenario.calibration) {
+    WriteCalibrationSet(set, temp_dir / "calib" / set.name, &progress, &done);
+  }
+  progress.Finish();
+
+  if (fs::exists(final_dir, error)) fs::remove(final_dir, error);  // the empty folder
+  fs::rename(temp_dir, final_dir, error);
+  UWS_CHECK(!error, final_dir.string(), ": cannot move the dataset into place: ", error.message());
+  guard.Release();
+  result.frames = scenario.frames;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+SimulateResult SimulateScenario(const std::string& name, const ScenarioOptions& options,
+                                const fs::path& out_dir, bool progress) {
+  return WriteDataset(MakeScenario(name, options), out_dir, progress);
+}
+
+}  // namespace uwscan::sim
