@@ -80,7 +80,7 @@ TEST(Checkerboard, RejectsBlurredPartialAndWrongSizeWithReasons) {
 TEST(Checkerboard, DetectionBenchmarkRunsAndSbIsAccurate) {
   const auto conditions = StandardDetectionConditions();
   const auto rows = RunDetectionBenchmark(kBoard, {conditions[0]}, 2, 5);
-  ASSERT_EQ(rows.size(), 3u);  // sb, sb-subpix, classic
+  ASSERT_EQ(rows.size(), 3u);      // sb, sb-subpix, classic
   EXPECT_EQ(rows[0].detected, 2);  // SB, clear
   EXPECT_LT(rows[0].rms_error_px, 0.2);
 }
