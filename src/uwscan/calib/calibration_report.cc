@@ -134,6 +134,7 @@ cv::Mat DrawResidualField(const CameraCalibrationResult& result, int width, int 
     p95 = sorted[std::min(sorted.size() - 1, static_cast<size_t>(0.95 * sorted.size()))];
   }
   const double arrow_scale = p95 > 0 ? 40.0 / p95 : 1.0;
+  cv::Mat area = plot(cv::Rect(0, 0, w, h));  // clips the arrows to the image
   cv::rectangle(plot, cv::Rect(0, 0, w, h), cv::Scalar(180, 180, 180));
   for (size_t i = 0; i < result.residuals.size(); ++i) {
     const CornerResidual& r = result.residuals[i];
@@ -141,8 +142,8 @@ cv::Mat DrawResidualField(const CameraCalibrationResult& result, int width, int 
     const cv::Point2d to = from + cv::Point2d(r.du, r.dv) * arrow_scale;
     const double t = p95 > 0 ? std::min(1.0, magnitudes[i] / (2 * p95)) : 0.0;
     const cv::Scalar colour(255 * (1 - t), 60, 255 * t);  // blue small -> red large
-    cv::line(plot, from, to, colour, 1, cv::LINE_AA);
-    cv::circle(plot, from, 1, cv::Scalar(0, 0, 0), cv::FILLED);
+    cv::line(area, from, to, colour, 1, cv::LINE_AA);
+    cv::circle(area, from, 1, cv::Scalar(0, 0, 0), cv::FILLED);
   }
   // Mean residual per cell of an 8 x 6 grid: systematic patterns (an
   // unmodelled port, a wrong distortion) show as coherent thick arrows.
@@ -159,7 +160,7 @@ cv::Mat DrawResidualField(const CameraCalibrationResult& result, int width, int 
       if (c.z() < 3) continue;
       const cv::Point2d centre((cx + 0.5) * w / cells_x, (cy + 0.5) * h / cells_y);
       const cv::Point2d mean(c.x() / c.z(), c.y() / c.z());
-      cv::arrowedLine(plot, centre, centre + mean * arrow_scale * 3.0, cv::Scalar(0, 0, 0), 2,
+      cv::arrowedLine(area, centre, centre + mean * arrow_scale * 3.0, cv::Scalar(0, 0, 0), 2,
                       cv::LINE_AA, 0, 0.2);
     }
   }

@@ -18,7 +18,7 @@ namespace uwscan {
 
 enum class CornerDetector {
   kSectorBased,        // findChessboardCornersSB with CALIB_CB_ACCURACY
-  kSectorBasedSubPix,  // SB to find the board, cornerSubPix (5x5) to refine
+  kSectorBasedSubPix,  // SB to find the board, cornerSubPix (11x11) to refine
   kClassic,            // findChessboardCorners + cornerSubPix (11x11)
 };
 const char* CornerDetectorName(CornerDetector detector);

@@ -56,6 +56,9 @@ TEST(Checkerboard, BothDetectorsFindARenderedBoardSubPixel) {
 TEST(Checkerboard, RejectsBlurredPartialAndWrongSizeWithReasons) {
   std::vector<Eigen::Vector2d> truth;
   BoardRenderOptions blurred;
+  blurred.width = 640;  // VGA: SB's exhaustive search on a failing image is slow
+  blurred.height = 480;
+  blurred.focal_px = 500.0;
   blurred.blur_sigma_px = 5.0;
   const cv::Mat blurry = RenderBoard(kBoard, FrontalPose(0.45), blurred, &truth);
   DetectionOptions options;
@@ -67,12 +70,14 @@ TEST(Checkerboard, RejectsBlurredPartialAndWrongSizeWithReasons) {
   // Board shifted half out of the image.
   Rigid3d shifted = FrontalPose(0.45);
   shifted.translation.x() += 0.25;
-  const cv::Mat partial = RenderBoard(kBoard, shifted, BoardRenderOptions(), &truth);
+  BoardRenderOptions vga = blurred;
+  vga.blur_sigma_px = 0.5;
+  const cv::Mat partial = RenderBoard(kBoard, shifted, vga, &truth);
   const BoardDetection cut = DetectBoard(partial, kBoard, DetectionOptions());
   EXPECT_FALSE(cut.found);
   EXPECT_NE(cut.reason.find("not found"), std::string::npos) << cut.reason;
 
-  const cv::Mat good = RenderBoard(kBoard, FrontalPose(0.45), BoardRenderOptions(), &truth);
+  const cv::Mat good = RenderBoard(kBoard, FrontalPose(0.45), vga, &truth);
   const BoardDetection wrong = DetectBoard(good, BoardSpec{8, 6, 0.03}, DetectionOptions());
   EXPECT_FALSE(wrong.found);
 }

@@ -50,7 +50,7 @@ std::vector<DetectionBenchmarkRow> RunDetectionBenchmark(
       row.detector = detector == CornerDetector::kSectorBased ? "findChessboardCornersSB"
                      : detector == CornerDetector::kClassic
                          ? "findChessboardCorners + cornerSubPix 11x11"
-                         : "findChessboardCornersSB + cornerSubPix 5x5";
+                         : "findChessboardCornersSB + cornerSubPix 11x11";
       row.trials = trials;
       gates_off.detector = detector;
       std::mt19937 rng(seed);
