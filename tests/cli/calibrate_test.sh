@@ -33,6 +33,13 @@ if [[ -f $DATA/left01.jpg ]]; then
   # Wrong board size: no board anywhere.
   expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/left" \
     --board 7x5:0.025 --out "$TMP/bad.yaml"
+  # No board in any image.
+  mkdir -p "$TMP/noboard"
+  cp "$DATA/box.png" "$DATA/box_in_scene.png" "$TMP/noboard/" 2>/dev/null || true
+  if ls "$TMP/noboard"/*.png >/dev/null 2>&1; then
+    expect 1 "no 9x6 board found in any" -- "$UWSCAN" calibrate camera --images "$TMP/noboard" \
+      --board 9x6:0.025 --out "$TMP/bad.yaml"
+  fi
   # Too few views.
   expect 1 "need at least 3" -- "$UWSCAN" calibrate camera --images "$TMP/few" \
     --board 9x6:0.025 --out "$TMP/bad.yaml"

@@ -87,6 +87,19 @@ TEST(CalibrationPipeline, FlatPortFromRenderedAirAndWaterImages) {
   EXPECT_NEAR(c.intrinsics[0], truth.intrinsics[0], 0.2);
   EXPECT_LT(out.result.rms_px, 0.05);
   EXPECT_TRUE(out.report.contains("pinhole_vs_flatport"));
+  // Standard deviations from the covariance: d_air's is positive and
+  // consistent with the error.
+  bool has_d_air = false;
+  for (const auto& p : out.report["result"]["parameters"]) {
+    if (p["name"] != "d_air") continue;
+    has_d_air = true;
+    ASSERT_TRUE(p["std"].is_number());
+    const double std_dev = p["std"].get<double>();
+    std::printf("d_air %.3f +- %.3f mm\n", p["value"].get<double>() * 1e3, std_dev * 1e3);
+    EXPECT_GT(std_dev, 1e-6);
+    EXPECT_LT(std::abs(c.port.d_air - truth.port.d_air), 5.0 * std_dev);
+  }
+  EXPECT_TRUE(has_d_air);
   EXPECT_FALSE(out.residual_plot.empty());
 }
 

@@ -26,9 +26,24 @@ std::string Format(double value, int precision = 3) {
   return out.str();
 }
 
-}  // namespace
+// Tab. 4.11: under water the port is free, the lens optionally too.
+CameraBundleOptions WaterBundleOptions(const WaterRefinementOptions& options,
+                                       bool free_intrinsics) {
+  CameraBundleOptions bundle;
+  bundle.free.intrinsics = free_intrinsics;
+  bundle.free.distortion = options.free_distortion;
+  bundle.free.fix_k3 = options.common.fix_k3;
+  bundle.free.normal = true;
+  bundle.free.d_air = true;
+  bundle.free.n_water = options.estimate_n_water;
+  bundle.residual = options.residual;
+  bundle.taylor_iterations = options.taylor_iterations;
+  bundle.max_iterations = options.common.max_iterations;
+  bundle.compute_covariance = options.common.compute_covariance;
+  return bundle;
+}
 
-CameraBundleOptions WaterBundleOptions(const WaterRefinementOptions& options, bool free_intrinsics);
+}  // namespace
 
 void OutlierOptions::Check() const {
   UWS_CHECK(max_view_rms_px > 0.0, "outlier threshold must be positive");
@@ -264,22 +279,6 @@ CameraCalibrationResult CalibrateFlatPortJoint(const CornerSet& air,
   bundle.view_in_air = in_air;
   return SolveWithOutlierLoop(joint, camera, poses, use, reasons, bundle, options.common.outliers,
                               "flatport-joint");
-}
-
-CameraBundleOptions WaterBundleOptions(const WaterRefinementOptions& options,
-                                       bool free_intrinsics) {
-  CameraBundleOptions bundle;
-  bundle.free.intrinsics = free_intrinsics;
-  bundle.free.distortion = options.free_distortion;
-  bundle.free.fix_k3 = options.common.fix_k3;
-  bundle.free.normal = true;
-  bundle.free.d_air = true;
-  bundle.free.n_water = options.estimate_n_water;
-  bundle.residual = options.residual;
-  bundle.taylor_iterations = options.taylor_iterations;
-  bundle.max_iterations = options.common.max_iterations;
-  bundle.compute_covariance = options.common.compute_covariance;
-  return bundle;
 }
 
 }  // namespace uwscan
