@@ -35,7 +35,7 @@ if [[ -f $DATA/left01.jpg ]]; then
     --board 7x5:0.025 --out "$TMP/bad.yaml"
   # No board in any image.
   mkdir -p "$TMP/noboard"
-  cp "$DATA/box.png" "$DATA/box_in_scene.png" "$TMP/noboard/" 2>/dev/null || true
+  cp "$DATA/box.png" "$TMP/noboard/" 2>/dev/null || true
   if ls "$TMP/noboard"/*.png >/dev/null 2>&1; then
     expect 1 "no 9x6 board found in any" -- "$UWSCAN" calibrate camera --images "$TMP/noboard" \
       --board 9x6:0.025 --out "$TMP/bad.yaml"
