@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct CameraArgs {
-  std::string images, board, model = "pinhole", water, glass, out, report, camera = "cam0";
+  std::string images, board, model = "pinhole", water, glass, out, report, camera = "cam0", rig;
   std::string detector = "sb", residual = "exact";
   double water_index = 1.333;
   bool estimate_water_index = false;
@@ -77,8 +77,20 @@ void RunCalibrateCamera(const CameraArgs& args) {
     if (!args.quiet || line.find("image(s)") == std::string::npos)
       std::printf("%s\n", line.c_str());
   }
+  // With --rig the other cameras and the lasers are kept and the named
+  // camera is replaced (or added), keeping its rig_from_camera.
   Rig rig;
-  rig.cameras.push_back(out.result.camera);
+  if (!args.rig.empty()) rig = ReadRigYaml(args.rig);
+  Camera calibrated = out.result.camera;
+  bool replaced = false;
+  for (Camera& existing : rig.cameras) {
+    if (existing.name != calibrated.name) continue;
+    calibrated.rig_from_camera = existing.rig_from_camera;
+    calibrated.bayer = existing.bayer;
+    existing = calibrated;
+    replaced = true;
+  }
+  if (!replaced) rig.cameras.push_back(calibrated);
   WriteRigYaml(args.out, rig);
   if (!args.report.empty()) WriteReport(args.report, "calibration", out.report, &out.residual_plot);
   std::printf("wrote %s\n", args.out.c_str());
@@ -151,6 +163,8 @@ void RegisterCalibrateCommands(CLI::App& app) {
       ->capture_default_str();
   camera->add_option("--camera", camera_args->camera, "camera name in the rig")
       ->capture_default_str();
+  camera->add_option("--rig", camera_args->rig,
+                     "existing rig.yaml to update (other cameras and lasers are kept)");
   camera->add_option("--out", camera_args->out, "rig.yaml to write")->required();
   camera->add_option("--report", camera_args->report, "folder for calibration.json and the PNG");
   camera->add_flag("--quiet", camera_args->quiet, "no per-image messages");

@@ -29,6 +29,12 @@ if [[ -f $DATA/left01.jpg ]]; then
   grep -q "model: pinhole" "$TMP/out/rig.yaml" || fail "rig.yaml lacks the pinhole camera"
   grep -q '"dropped_reason"' "$TMP/out/report/calibration.json" || fail "report lacks views"
   [[ -s $TMP/out/report/calibration_residuals.png ]] || fail "no residual PNG"
+  # --rig keeps the lasers of an existing rig and replaces the named camera.
+  { cat "$TMP/out/rig.yaml"; printf 'lasers:\n  - name: laser0\n    camera_from_laser: {q: [1, 0, 0, 0], t: [0.3, 0, 0]}\n    p1: 0.0\n    wavelength_nm: 532\n'; } >"$TMP/with_laser.yaml"
+  "$UWSCAN" calibrate camera --images "$TMP/left" --board 9x6:0.025 --rig "$TMP/with_laser.yaml" \
+    --out "$TMP/out/rig2.yaml" --quiet >/dev/null 2>"$TMP/stderr" || fail "--rig: $(cat "$TMP/stderr")"
+  grep -q "laser0" "$TMP/out/rig2.yaml" || fail "--rig dropped the laser"
+  [[ $(grep -c "name: cam0" "$TMP/out/rig2.yaml") == 1 ]] || fail "--rig duplicated the camera"
 
   # Wrong board size: no board anywhere.
   expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/left" \

@@ -12,6 +12,7 @@
 
 #include "uwscan/calib/board_render.h"
 #include "uwscan/calib/synthetic_views.h"
+#include "uwscan/io/rig_yaml.h"
 
 namespace uwscan {
 namespace {
@@ -100,6 +101,12 @@ TEST(CalibrationPipeline, FlatPortFromRenderedAirAndWaterImages) {
     EXPECT_LT(std::abs(c.port.d_air - truth.port.d_air), 5.0 * std_dev);
   }
   EXPECT_TRUE(has_d_air);
+  // The calibrated flat-port camera is a valid rig camera and survives rig.yaml.
+  Rig rig;
+  rig.cameras.push_back(c);
+  const Rig back = ParseRigYaml(RigToYaml(rig), "calibrated rig");
+  EXPECT_EQ(back.cameras[0].port.d_air, c.port.d_air);
+  EXPECT_TRUE(back.cameras[0].IsFlatPort());
   EXPECT_FALSE(out.residual_plot.empty());
 }
 
