@@ -21,9 +21,10 @@ expect() {
 }
 
 if [[ -f $DATA/left01.jpg ]]; then
-  mkdir -p "$TMP/left" "$TMP/few" "$TMP/mixed" "$TMP/out"
+  mkdir -p "$TMP/left" "$TMP/few" "$TMP/five" "$TMP/mixed" "$TMP/out"
   cp "$DATA"/left[0-9][0-9].jpg "$TMP/left/"
   cp "$DATA"/left01.jpg "$DATA"/left02.jpg "$TMP/few/"
+  cp "$DATA"/left0[1-5].jpg "$TMP/five/"  # small sets keep the test quick
   "$UWSCAN" calibrate camera --images "$TMP/left" --board 9x6:0.025 --out "$TMP/out/rig.yaml" \
     --report "$TMP/out/report" >"$TMP/stdout" 2>"$TMP/stderr" || fail "real images: $(cat "$TMP/stderr")"
   grep -q "model: pinhole" "$TMP/out/rig.yaml" || fail "rig.yaml lacks the pinhole camera"
@@ -31,13 +32,13 @@ if [[ -f $DATA/left01.jpg ]]; then
   [[ -s $TMP/out/report/calibration_residuals.png ]] || fail "no residual PNG"
   # --rig keeps the lasers of an existing rig and replaces the named camera.
   { cat "$TMP/out/rig.yaml"; printf 'lasers:\n  - name: laser0\n    camera_from_laser: {q: [1, 0, 0, 0], t: [0.3, 0, 0]}\n    p1: 0.0\n    wavelength_nm: 532\n'; } >"$TMP/with_laser.yaml"
-  "$UWSCAN" calibrate camera --images "$TMP/left" --board 9x6:0.025 --rig "$TMP/with_laser.yaml" \
+  "$UWSCAN" calibrate camera --images "$TMP/five" --board 9x6:0.025 --rig "$TMP/with_laser.yaml" \
     --out "$TMP/out/rig2.yaml" --quiet >/dev/null 2>"$TMP/stderr" || fail "--rig: $(cat "$TMP/stderr")"
   grep -q "laser0" "$TMP/out/rig2.yaml" || fail "--rig dropped the laser"
   [[ $(grep -c "name: cam0" "$TMP/out/rig2.yaml") == 1 ]] || fail "--rig duplicated the camera"
 
   # Wrong board size: no board anywhere.
-  expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/left" \
+  expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/five" \
     --board 7x5:0.025 --out "$TMP/bad.yaml"
   # No board in any image.
   mkdir -p "$TMP/noboard"
