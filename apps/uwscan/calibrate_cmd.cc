@@ -27,6 +27,7 @@ struct CameraArgs {
 
 struct LaserArgs {
   std::string rig, images, board, out, report, camera, laser = "laser0", detector = "sb";
+  std::string servo_angles, servo_axis;
   bool quiet = false;
 };
 
@@ -110,6 +111,22 @@ void RunCalibrateLaser(const LaserArgs& args) {
   if (laser_index >= 0) {
     options.calibration.nominal_camera_from_laser = rig.lasers[laser_index].camera_from_laser;
   }
+  if (args.servo_angles.empty() != args.servo_axis.empty()) {
+    throw UsageError("--servo-angles and --servo-axis go together");
+  }
+  if (!args.servo_axis.empty()) {
+    double v[6];
+    char tail = 0;
+    if (std::sscanf(args.servo_axis.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2],
+                    &v[3], &v[4], &v[5], &tail) != 6 ||
+        Eigen::Vector3d(v[3], v[4], v[5]).norm() < 1e-9) {
+      throw UsageError(
+          "--servo-axis must be PX,PY,PZ,DX,DY,DZ (camera frame, m; nonzero direction)");
+    }
+    options.servo = ServoAxis{Eigen::Vector3d(v[0], v[1], v[2]),
+                              Eigen::Vector3d(v[3], v[4], v[5]).normalized()};
+    options.servo_angles_rad = ReadServoAngles(args.servo_angles);
+  }
   const LaserPipelineResult out = RunLaserCalibration(camera, options);
   const LaserCalibrationResult& result = out.result;
   std::printf(
@@ -185,6 +202,10 @@ void RegisterCalibrateCommands(CLI::App& app) {
       ->capture_default_str();
   laser->add_option("--detector", laser_args->detector, "sb | sb-subpix | classic")
       ->capture_default_str();
+  laser->add_option("--servo-angles", laser_args->servo_angles,
+                    "servo variant (§6.5): CSV 'file,angle_deg' per image of one sweep");
+  laser->add_option("--servo-axis", laser_args->servo_axis,
+                    "servo axis PX,PY,PZ,DX,DY,DZ in the camera frame (m)");
   laser->add_option("--out", laser_args->out, "rig.yaml to write")->required();
   laser->add_option("--report", laser_args->report, "folder for laser_calibration.json");
   laser->add_flag("--quiet", laser_args->quiet, "no per-image messages");

@@ -58,6 +58,13 @@ if [[ -f $DATA/left01.jpg ]]; then
   # A rig without the named camera.
   expect 1 "nope" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" --camera nope \
     --images "$TMP/left" --board 9x6:0.025 --out "$TMP/bad.yaml"
+  # Servo options: both or neither; a bad angle file names the line.
+  expect 2 "go together" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" \
+    --images "$TMP/left" --board 9x6:0.025 --servo-axis 0,0,0,0,1,0 --out "$TMP/bad.yaml"
+  printf 'file,angle_deg\nleft01.jpg,zero\n' >"$TMP/angles.csv"
+  expect 1 "angles.csv:2" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" \
+    --images "$TMP/few" --board 9x6:0.025 --servo-axis 0,0,0,0,1,0 \
+    --servo-angles "$TMP/angles.csv" --out "$TMP/bad.yaml"
   # Flat port without the glass.
   expect 2 "glass" -- "$UWSCAN" calibrate camera --images "$TMP/left" --board 9x6:0.025 \
     --model flatport --out "$TMP/bad.yaml"

@@ -1,6 +1,9 @@
 #include "uwscan/calib/calibration_pipeline.h"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "uwscan/calib/board_pose.h"
@@ -137,6 +140,12 @@ LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelin
     laser_view.name = view.name;
     laser_view.camera_from_board = pose->camera_from_board;
     laser_view.laser_pixels = ExtractLaserPixels(image, options.board, view.corners);
+    if (options.servo) {
+      const auto angle = options.servo_angles_rad.find(view.name);
+      UWS_CHECK(angle != options.servo_angles_rad.end(), options.images.string(), ": image '",
+                view.name, "' has no servo angle");
+      laser_view.servo_angle_rad = angle->second;
+    }
     view_list.push_back({{"image", view.name},
                          {"used", true},
                          {"board_rms_px", pose->rms_px},
@@ -145,11 +154,34 @@ LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelin
     views.push_back(laser_view);
   }
   LaserPipelineResult out;
-  out.result = CalibrateLaser(camera, views, options.calibration);
+  out.result =
+      CalibrateLaser(camera, views, options.calibration, options.servo ? &*options.servo : nullptr);
   out.report = {{"laser", LaserResultToJson(out.result)},
                 {"views", view_list},
                 {"detections", DetectionsToJson(detection.images)}};
   return out;
+}
+
+std::map<std::string, double> ReadServoAngles(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  UWS_CHECK(in, path.string(), ": cannot open the servo angle file");
+  std::map<std::string, double> angles;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    const size_t comma = line.find(',');
+    char* end = nullptr;
+    const double degrees =
+        comma == std::string::npos ? 0.0 : std::strtod(line.c_str() + comma + 1, &end);
+    if (comma == std::string::npos || end == line.c_str() + comma + 1 ||
+        (end && *end != '\0' && *end != '\r')) {
+      if (number == 1) continue;  // header
+      UWS_THROW(path.string(), ":", number, ": expected 'file,angle_deg', got '", line, "'");
+    }
+    angles[line.substr(0, comma)] = degrees * M_PI / 180.0;
+  }
+  UWS_CHECK(!angles.empty(), path.string(), ": no servo angles");
+  return angles;
 }
 
 }  // namespace uwscan

@@ -4,8 +4,10 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 
 #include "uwscan/calib/camera_calibration.h"
@@ -47,7 +49,15 @@ struct LaserPipelineOptions {
   BoardSpec board;
   DetectionOptions detection;
   LaserCalibrationOptions calibration;
+  // Servo variant (§6.5): the axis and each image's servo angle (by file
+  // name); every image with a board must have an angle.
+  std::optional<ServoAxis> servo;
+  std::map<std::string, double> servo_angles_rad;
 };
+
+// Reads "file,angle_deg" lines (a header line is allowed); throws
+// uwscan::Error naming the file and line.
+std::map<std::string, double> ReadServoAngles(const std::filesystem::path& path);
 
 struct LaserPipelineResult {
   LaserCalibrationResult result;

@@ -1,12 +1,16 @@
 // Laser calibration from rendered images, the path `uwscan calibrate laser`
 // takes: board detection, board pose, laser pixels on the board, sheet fit.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <opencv2/imgproc.hpp>
 
 #include "uwscan/calib/board_pose.h"
 #include "uwscan/calib/board_render.h"
+#include "uwscan/calib/calibration_pipeline.h"
 #include "uwscan/calib/checkerboard.h"
 #include "uwscan/calib/laser_calibration.h"
 #include "uwscan/calib/laser_points.h"
@@ -90,6 +94,23 @@ TEST(LaserImagePipeline, RenderedBoardsWithLaserLineGiveTheSheet) {
   EXPECT_LT(angle_deg, 0.1);
   EXPECT_NEAR(result.baseline_m, true_baseline, 5e-4);
   EXPECT_LT(result.plane_rms_m, 2e-4);
+}
+
+}  // namespace
+}  // namespace uwscan
+
+namespace uwscan {
+namespace {
+
+TEST(LaserImagePipeline, ReadsServoAngles) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("uwscan_angles_" + std::to_string(getpid()));
+  std::ofstream(path) << "file,angle_deg\n000.png,-6\n001.png,3.5\r\n";
+  const auto angles = ReadServoAngles(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(angles.size(), 2u);
+  EXPECT_DOUBLE_EQ(angles.at("000.png"), -6.0 * M_PI / 180.0);
+  EXPECT_DOUBLE_EQ(angles.at("001.png"), 3.5 * M_PI / 180.0);
 }
 
 }  // namespace
