@@ -19,7 +19,12 @@ void RegisterLaserCommands(CLI::App& app) {
   auto method = std::make_shared<std::string>("thesis");
   auto* detect = laser->add_subcommand(
       "detect", "Detect the laser line in every image: frame,u,v,channel,strength");
-  detect->add_option("--images", *images, "folder of images (sorted by name)")->required();
+  auto dataset = std::make_shared<std::string>();
+  auto* dataset_option =
+      detect->add_option("--dataset", *dataset, "dataset folder (rig.yaml, frames.csv, frames/)");
+  auto* images_option = detect->add_option("--images", *images, "folder of images (sorted by name)");
+  dataset_option->excludes(images_option);
+
   detect->add_option("--rig", *rig, "rig.yaml: image size, Bayer pattern, laser colour and pose");
   detect->add_option("--camera", job->camera_name, "camera name (default: the first)");
   detect->add_option("--out", *out, "detections.csv")->required();
@@ -35,6 +40,8 @@ void RegisterLaserCommands(CLI::App& app) {
     const auto parsed = laser::MethodFromName(*method);
     if (!parsed) throw UsageError("--method must be thesis, cog or argmax");
     job->detector.method = *parsed;
+    if (dataset->empty() == images->empty()) throw UsageError("give either --dataset or --images");
+    job->dataset_dir = *dataset;
     job->images_dir = *images;
     job->detections_csv = *out;
     if (!rig->empty()) job->rig_path = *rig;

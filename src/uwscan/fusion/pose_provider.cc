@@ -36,8 +36,10 @@ TrajectoryPoseProvider::TrajectoryPoseProvider(std::vector<StampedPose> poses, s
                    [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
 }
 
-std::optional<Rigid3d> TrajectoryPoseProvider::Pose(const FrameInput& frame) {
-  return InterpolatePose(poses_, frame.timestamp_s, max_extrapolation_s_);
+std::vector<PoseUpdate> TrajectoryPoseProvider::Add(const FrameInput& frame) {
+  const auto pose = InterpolatePose(poses_, frame.timestamp_s, max_extrapolation_s_);
+  if (!pose) return {};
+  return {{frame.index, *pose}};
 }
 
 }  // namespace uwscan::fusion

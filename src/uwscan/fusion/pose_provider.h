@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
 #include "uwscan/io/tum.h"
@@ -24,13 +25,24 @@ struct FrameInput {
   const laser::Profile* profile = nullptr;      // camera-frame laser points (metric)
 };
 
+struct PoseUpdate {
+  int frame = 0;
+  Rigid3d world_from_camera;
+};
+
+// Frames go in one by one; poses come out as they become known, possibly
+// for earlier frames (a provider may hold frames back, e.g. until its map
+// is initialised). A frame whose pose never comes has no pose (its profile
+// is left out, never placed at a wrong pose).
 class PoseProvider {
  public:
   virtual ~PoseProvider() = default;
-  // world_from_camera of the frame, or nullopt when it cannot be estimated
-  // (the frame's profile is then left out, never placed at a wrong pose).
-  virtual std::optional<Rigid3d> Pose(const FrameInput& frame) = 0;
+  virtual std::vector<PoseUpdate> Add(const FrameInput& frame) = 0;
+  // End of the sequence: poses still held back.
+  virtual std::vector<PoseUpdate> Finish() { return {}; }
   virtual std::string Name() const = 0;
+  // Statistics for report.json.
+  virtual nlohmann::json Details() const { return nlohmann::json::object(); }
 };
 
 // Poses from a TUM trajectory, interpolated at the frame's timestamp
@@ -41,7 +53,7 @@ class TrajectoryPoseProvider : public PoseProvider {
  public:
   TrajectoryPoseProvider(std::vector<StampedPose> poses, std::string name,
                          double max_extrapolation_s = 0.05);
-  std::optional<Rigid3d> Pose(const FrameInput& frame) override;
+  std::vector<PoseUpdate> Add(const FrameInput& frame) override;
   std::string Name() const override { return name_; }
 
  private:

@@ -27,6 +27,10 @@ struct LaserAccuracyRow {
   bool led = true;
   std::string method;
   LaserAccuracy accuracy;
+  // Triangulated detections (within 1 px of the line) against the true 3D
+  // point of their scan line: RMS in metres, and how many.
+  double profile_rms_m = 0.0;
+  long profile_points = 0;
 };
 
 std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(const LaserAccuracyBenchmarkOptions& options);

@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "uwscan/io/dataset.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/laser/profile.h"
 #include "uwscan/util/atomic_file.h"
@@ -19,7 +20,9 @@ void LaserDetectJob::Check() const {
   UWS_CHECK(scan == "rows" || scan == "cols" || scan == "auto", "--scan must be rows, cols or auto");
   UWS_CHECK(channel == "red" || channel == "green" || channel == "blue" || channel == "auto",
             "--channel must be red, green, blue or auto");
-  UWS_CHECK(!profiles_csv || rig_path, "--profiles needs a rig (--rig or --dataset)");
+  UWS_CHECK(dataset_dir.empty() != images_dir.empty(), "give either --dataset or --images");
+  UWS_CHECK(!profiles_csv || rig_path || !dataset_dir.empty(),
+            "--profiles needs a rig (--rig or --dataset)");
 }
 
 std::vector<fs::path> ListImages(const fs::path& dir) {
@@ -88,14 +91,29 @@ void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
 LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   job.Check();
   const auto start = std::chrono::steady_clock::now();
-  const auto images = ListImages(job.images_dir);
+  // Frames: a dataset's frames.csv (with servo angles) or a folder's images.
+  std::vector<fs::path> images;
+  std::vector<int> indices;
+  std::vector<double> angles;
   std::optional<Rig> rig;
-  if (job.rig_path) rig = ReadRigYaml(*job.rig_path);
+  if (!job.dataset_dir.empty()) {
+    rig = ReadRigYaml(job.dataset_dir / "rig.yaml");
+    const auto records = ReadFramesCsv(job.dataset_dir / "frames.csv");
+    UWS_CHECK(!records.empty(), (job.dataset_dir / "frames.csv").string(), ": no frames");
+    for (const auto& record : records) {
+      images.push_back(job.dataset_dir / record.file);
+      indices.push_back(record.index);
+      angles.push_back(record.laser_angle_rad.value_or(0.0));
+    }
+  } else {
+    images = ListImages(job.images_dir);
+    for (size_t i = 0; i < images.size(); ++i) indices.push_back(static_cast<int>(i));
+    angles.assign(images.size(), 0.0);
+    if (job.rig_path) rig = ReadRigYaml(*job.rig_path);
+  }
   const Camera* camera = rig ? &rig->CameraByName(job.camera_name) : nullptr;
   const LineProjector* laser = rig && !rig->lasers.empty() ? &rig->LaserByName(job.laser_name) : nullptr;
-  UWS_CHECK(!job.profiles_csv || laser, job.rig_path->string(), ": --profiles needs a laser in the rig");
-  UWS_CHECK(job.laser_angles_rad.empty() || job.laser_angles_rad.size() == images.size(),
-            "laser angles: ", job.laser_angles_rad.size(), " angles for ", images.size(), " frames");
+  UWS_CHECK(!job.profiles_csv || laser, "--profiles needs a laser in the rig");
   size_t camera_index = 0, laser_index = 0;
   if (rig) {
     camera_index = camera - rig->cameras.data();
@@ -123,21 +141,22 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   }
   char line[160];
   LaserDetectSummary summary;
-  for (size_t frame = 0; frame < images.size(); ++frame) {
-    const cv::Mat image = cv::imread(images[frame].string(), cv::IMREAD_UNCHANGED);
+  for (size_t i = 0; i < images.size(); ++i) {
+    const size_t frame = static_cast<size_t>(indices[i]);
+    const cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_UNCHANGED);
     ++summary.frames;
     if (image.empty()) {
-      std::cerr << "uwscan: warning: " << images[frame].string()
+      std::cerr << "uwscan: warning: " << images[i].string()
                 << ": unreadable or truncated image, frame " << frame << " has no detections\n";
       ++summary.unreadable_frames;
       continue;
     }
     if (camera) {
-      UWS_CHECK(image.cols == camera->width && image.rows == camera->height, images[frame].string(),
+      UWS_CHECK(image.cols == camera->width && image.rows == camera->height, images[i].string(),
                 ": image is ", image.cols, "x", image.rows, " but camera '", camera->name, "' is ",
                 camera->width, "x", camera->height);
     }
-    UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, images[frame].string(),
+    UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, images[i].string(),
               ": only 8- and 16-bit images are supported");
     const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);
@@ -148,7 +167,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       detections.stream() << line;
     }
     if (profiles) {
-      const double angle = job.laser_angles_rad.empty() ? 0.0 : job.laser_angles_rad[frame];
+      const double angle = angles[i];
       const auto profile = laser::TriangulateProfile(
           *camera, *laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), detection.points,
           static_cast<int>(frame));
@@ -160,7 +179,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       }
     }
     if (job.overlay_dir) {
-      WriteImageAtomic(*job.overlay_dir / (images[frame].stem().string() + ".png"),
+      WriteImageAtomic(*job.overlay_dir / (images[i].stem().string() + ".png"),
                        OverlayImage(image, layout, detection));
     }
   }

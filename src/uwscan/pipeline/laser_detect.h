@@ -13,7 +13,10 @@
 namespace uwscan {
 
 struct LaserDetectJob {
-  std::filesystem::path images_dir;      // all images in it, sorted by name
+  // Either a dataset folder (rig.yaml, frames.csv with servo angles, frames/)
+  // or a folder of images (all of them, sorted by name) with an optional rig.
+  std::filesystem::path dataset_dir;
+  std::filesystem::path images_dir;
   std::optional<std::filesystem::path> rig_path;
   std::string camera_name;               // default: the first camera
   std::string laser_name;                // default: the first laser
@@ -23,7 +26,6 @@ struct LaserDetectJob {
   std::string scan = "auto";             // rows | cols | auto (from the rig)
   std::string channel = "auto";          // red | green | blue | auto (laser wavelength)
   laser::DetectorOptions detector;
-  std::vector<double> laser_angles_rad;  // per frame, when the laser is on a servo
   bool quiet = false;
   void Check() const;
 };

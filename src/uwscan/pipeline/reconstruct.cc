@@ -5,6 +5,9 @@
 #include <chrono>
 #include <iostream>
 
+#include <map>
+
+#include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/dataset.h"
 #include "uwscan/io/image.h"
 #include "uwscan/io/ply.h"
@@ -54,9 +57,6 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"real_time_factor", RealTimeFactor()}};
 }
 
-std::unique_ptr<fusion::PoseProvider> MakeSelfReferencedProvider(const Rig& rig, size_t camera,
-                                                                 size_t laser,
-                                                                 const laser::DetectorOptions& detector);
 
 ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
@@ -81,7 +81,10 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     provider = std::make_unique<fusion::TrajectoryPoseProvider>(ReadTum(*job.poses_file),
                                                                 job.poses_file->string());
   }
-  if (!provider) provider = MakeSelfReferencedProvider(rig, camera_index, laser_index, detector);
+  if (!provider) {
+    provider = std::make_unique<fusion::SelfReferencedPoseProvider>(camera, detector.laser_channel,
+                                                                    job.self_referenced);
+  }
 
   std::error_code error;
   fs::create_directories(job.out, error);
@@ -98,7 +101,37 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                              (frames.size() - 1)
                                    : 0.0;
   ProgressBar progress("reconstruct", static_cast<long>(frames.size()), !job.quiet);
+  // Profiles wait here until the provider reports their frame's pose.
+  struct Pending {
+    double timestamp_s;
+    laser::Profile profile;
+  };
+  std::map<int, Pending> pending;
   std::optional<Rigid3d> first_pose;
+  int frames_placed = 0;
+  const auto place = [&](const std::vector<fusion::PoseUpdate>& updates) {
+    for (const auto& update : updates) {
+      const auto it = pending.find(update.frame);
+      if (it == pending.end()) continue;
+      if (!first_pose) first_pose = update.world_from_camera;
+      trajectory.Add({it->second.timestamp_s, update.world_from_camera});
+      ++frames_placed;
+      const Rigid3d& placed = job.motion_compensation ? update.world_from_camera : *first_pose;
+      for (const auto& p : it->second.profile.points) {
+        CloudPoint point;
+        point.intensity = p.strength;
+        point.red = point.green = point.blue = ToByte(p.strength * 4.0f);
+        point.frame = update.frame;
+        point.position = placed * p.point_in_camera;
+        cloud.Add(point);
+        point.position = *first_pose * p.point_in_camera;
+        uncompensated.Add(point);
+      }
+      report.points += static_cast<long>(it->second.profile.points.size());
+      report.points_uncompensated += static_cast<long>(it->second.profile.points.size());
+      pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
+    }
+  };
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     auto t = std::chrono::steady_clock::now();
@@ -115,7 +148,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
 
     t = std::chrono::steady_clock::now();
     const double angle = record.laser_angle_rad.value_or(0.0);
-    const laser::Profile profile = laser::TriangulateProfile(
+    laser::Profile profile = laser::TriangulateProfile(
         camera, laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), detection.points,
         record.index);
     report.triangulation_failures += profile.failed;
@@ -123,36 +156,22 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
 
     t = std::chrono::steady_clock::now();
     fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
-    const std::optional<Rigid3d> pose = provider->Pose(input);
+    const auto updates = provider->Add(input);
     report.seconds_pose += Seconds(t);
 
     t = std::chrono::steady_clock::now();
     ++report.frames;
     if (!detection.points.empty()) ++report.frames_with_line;
-    if (!pose) {
-      ++report.frames_without_pose;
-    } else {
-      if (!first_pose) first_pose = *pose;
-      trajectory.Add({record.timestamp_s, *pose});
-      const Rigid3d& placed = job.motion_compensation ? *pose : *first_pose;
-      for (const auto& p : profile.points) {
-        CloudPoint point;
-        point.intensity = p.strength;
-        point.red = point.green = point.blue = ToByte(p.strength * 4.0f);
-        point.frame = record.index;
-        point.position = placed * p.point_in_camera;
-        cloud.Add(point);
-        point.position = *first_pose * p.point_in_camera;
-        uncompensated.Add(point);
-      }
-      report.points += static_cast<long>(profile.points.size());
-      report.points_uncompensated += static_cast<long>(profile.points.size());
-    }
+    pending.emplace(record.index, Pending{record.timestamp_s, std::move(profile)});
+    place(updates);
     report.seconds_io += Seconds(t);
     progress.Update(static_cast<long>(i + 1));
   }
+  place(provider->Finish());
+  report.frames_without_pose = report.frames - frames_placed;
   progress.Finish();
   UWS_CHECK(first_pose.has_value(), job.dataset.string(), ": no frame got a pose (", provider->Name(), ")");
+  report.pose_details = provider->Details();
   cloud.Close();
   uncompensated.Close();
   trajectory.Commit();
@@ -166,12 +185,3 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
 
 }  // namespace uwscan
 
-namespace uwscan {
-
-// Until the self-referenced odometry is wired in, reconstruct needs --poses.
-std::unique_ptr<fusion::PoseProvider> MakeSelfReferencedProvider(const Rig&, size_t, size_t,
-                                                                 const laser::DetectorOptions&) {
-  throw UsageError("self-referenced pose estimation is not available in this build; pass --poses FILE");
-}
-
-}  // namespace uwscan

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "uwscan/fusion/pose_provider.h"
+#include "uwscan/fusion/self_referenced.h"
 #include "uwscan/laser/detector.h"
 
 namespace uwscan {
@@ -22,6 +23,7 @@ struct ReconstructJob {
   std::string camera_name;          // default: the first camera
   std::string laser_name;           // default: the first laser
   laser::DetectorOptions detector;  // scan direction and colour come from the rig
+  fusion::SelfReferencedOptions self_referenced;
   int max_frames = 0;               // 0: all
   bool quiet = false;
   void Check() const;

@@ -1,0 +1,138 @@
+#include "uwscan/eval/trajectory_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+double AngleDeg(const Eigen::Quaterniond& q) {
+  return Eigen::AngleAxisd(q.normalized()).angle() * 180.0 / M_PI;
+}
+
+// Relative motion of the estimate vs ground truth between frames i and j:
+// E = (gt_i^-1 gt_j)^-1 (est_i^-1 est_j), the estimate already aligned.
+Rigid3d RelativeError(const Rigid3d& gt_i, const Rigid3d& gt_j, const Rigid3d& est_i,
+                      const Rigid3d& est_j) {
+  return (gt_i.Inverse() * gt_j).Inverse() * (est_i.Inverse() * est_j);
+}
+
+}  // namespace
+
+void TrajectoryMetricsOptions::Check() const {
+  UWS_CHECK(max_time_difference_s >= 0, "max_time_difference_s must be >= 0");
+  UWS_CHECK(rpe_step >= 1, "rpe_step must be >= 1");
+  UWS_CHECK(drift_start_step >= 1, "drift_start_step must be >= 1");
+  for (double length : drift_lengths_m) UWS_CHECK(length > 0, "drift lengths must be > 0");
+}
+
+TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estimate,
+                                           const std::vector<StampedPose>& ground_truth,
+                                           const TrajectoryMetricsOptions& options) {
+  options.Check();
+  // Associate by nearest timestamp (ground truth sorted by time).
+  std::vector<StampedPose> gt_sorted = ground_truth;
+  std::sort(gt_sorted.begin(), gt_sorted.end(),
+            [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  std::vector<Rigid3d> est, gt;
+  for (const StampedPose& pose : estimate) {
+    auto it = std::lower_bound(
+        gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
+        [](const StampedPose& a, double t) { return a.timestamp_s < t; });
+    const StampedPose* best = nullptr;
+    double best_dt = options.max_time_difference_s;
+    for (auto candidate : {it, it == gt_sorted.begin() ? it : it - 1}) {
+      if (candidate == gt_sorted.end()) continue;
+      const double dt = std::abs(candidate->timestamp_s - pose.timestamp_s);
+      if (dt <= best_dt) best_dt = dt, best = &*candidate;
+    }
+    if (best == nullptr) continue;
+    est.push_back(pose.world_from_camera);
+    gt.push_back(best->world_from_camera);
+  }
+  TrajectoryMetrics metrics;
+  metrics.associated = int(est.size());
+  UWS_CHECK(est.size() >= 3, "trajectory metrics: only ", est.size(),
+            " poses associate with the ground truth by timestamp (need >= 3)");
+
+  std::vector<Eigen::Vector3d> est_positions, gt_positions;
+  for (size_t i = 0; i < est.size(); ++i) {
+    est_positions.push_back(est[i].translation);
+    gt_positions.push_back(gt[i].translation);
+  }
+  const std::optional<Sim3d> alignment =
+      AlignSim3(est_positions, gt_positions, options.align_scale);
+  UWS_CHECK(alignment.has_value(),
+            "trajectory metrics: positions are degenerate (collinear or identical), "
+            "cannot align");
+  metrics.alignment = *alignment;
+  std::vector<Rigid3d> aligned;
+  for (const Rigid3d& pose : est) aligned.push_back(metrics.alignment * pose);
+
+  // ATE.
+  std::vector<double> errors;
+  double sum = 0, sum_sq = 0;
+  for (size_t i = 0; i < est.size(); ++i) {
+    const double e = (aligned[i].translation - gt[i].translation).norm();
+    errors.push_back(e);
+    sum += e;
+    sum_sq += e * e;
+  }
+  const double n = double(errors.size());
+  metrics.ate_rmse_m = std::sqrt(sum_sq / n);
+  metrics.ate_mean_m = sum / n;
+  metrics.ate_max_m = *std::max_element(errors.begin(), errors.end());
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  metrics.ate_median_m = errors[errors.size() / 2];
+
+  // RPE.
+  double t_sq = 0, r_sq = 0, t_sum = 0, r_sum = 0;
+  for (size_t i = 0; i + options.rpe_step < est.size(); ++i) {
+    const size_t j = i + options.rpe_step;
+    const Rigid3d error = RelativeError(gt[i], gt[j], aligned[i], aligned[j]);
+    const double t = error.translation.norm(), r = AngleDeg(error.rotation);
+    t_sq += t * t, r_sq += r * r, t_sum += t, r_sum += r;
+    ++metrics.rpe_pairs;
+  }
+  if (metrics.rpe_pairs > 0) {
+    metrics.rpe_trans_rmse_m = std::sqrt(t_sq / metrics.rpe_pairs);
+    metrics.rpe_rot_rmse_deg = std::sqrt(r_sq / metrics.rpe_pairs);
+    metrics.rpe_trans_mean_m = t_sum / metrics.rpe_pairs;
+    metrics.rpe_rot_mean_deg = r_sum / metrics.rpe_pairs;
+  }
+
+  // KITTI drift: cumulative ground-truth distance, then for every start
+  // frame and length the first frame at least that far along the path.
+  std::vector<double> distance(gt.size(), 0.0);
+  for (size_t i = 1; i < gt.size(); ++i) {
+    distance[i] = distance[i - 1] + (gt[i].translation - gt[i - 1].translation).norm();
+  }
+  metrics.path_length_m = distance.back();
+  metrics.drift_lengths_m = options.drift_lengths_m;
+  if (metrics.drift_lengths_m.empty()) {
+    for (int k = 1; k <= 5; ++k) metrics.drift_lengths_m.push_back(0.1 * k * distance.back());
+  }
+  double t_drift = 0, r_drift = 0;
+  for (size_t first = 0; first < gt.size(); first += options.drift_start_step) {
+    for (double length : metrics.drift_lengths_m) {
+      if (!(length > 0)) continue;
+      const auto last_it =
+          std::lower_bound(distance.begin() + first, distance.end(), distance[first] + length);
+      if (last_it == distance.end()) continue;
+      const size_t last = size_t(last_it - distance.begin());
+      const Rigid3d error = RelativeError(gt[first], gt[last], aligned[first], aligned[last]);
+      t_drift += error.translation.norm() / length;
+      r_drift += AngleDeg(error.rotation) / length;
+      ++metrics.drift_segments;
+    }
+  }
+  if (metrics.drift_segments > 0) {
+    metrics.drift_trans_percent = 100.0 * t_drift / metrics.drift_segments;
+    metrics.drift_rot_deg_per_m = r_drift / metrics.drift_segments;
+  }
+  return metrics;
+}
+
+}  // namespace uwscan

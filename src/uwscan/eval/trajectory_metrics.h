@@ -1,0 +1,48 @@
+// Trajectory accuracy (thesis §6.3): absolute trajectory error after Sim(3)
+// alignment (ATE), relative pose error (RPE, per frame step) and KITTI-style
+// drift (translation % and rotation deg/m over fixed path lengths, Geiger et
+// al. 2012). Monocular VO is up to scale, so every metric is computed on the
+// estimate mapped by the Sim(3) that best aligns its positions.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "uwscan/geometry/sim3_alignment.h"
+#include "uwscan/io/tum_trajectory.h"
+
+namespace uwscan {
+
+struct TrajectoryMetricsOptions {
+  double max_time_difference_s = 1e-3;  // timestamp association tolerance
+  bool align_scale = true;              // Sim(3); false: SE(3)
+  int rpe_step = 1;                     // RPE between frames i and i + step (associated poses)
+  // KITTI path lengths (m); empty = 10%, 20%, ..., 50% of the ground-truth path.
+  std::vector<double> drift_lengths_m;
+  int drift_start_step = 1;  // every k-th frame starts a drift segment (KITTI: 10)
+  void Check() const;
+};
+
+struct TrajectoryMetrics {
+  int associated = 0;       // pose pairs used
+  double path_length_m = 0; // ground-truth path length over the associated poses
+  Sim3d alignment;          // ground_truth_world_from_estimate_world
+  // ATE on positions after alignment (m).
+  double ate_rmse_m = 0, ate_mean_m = 0, ate_median_m = 0, ate_max_m = 0;
+  // RPE per `rpe_step` (m, deg), after applying the alignment scale.
+  double rpe_trans_rmse_m = 0, rpe_rot_rmse_deg = 0;
+  double rpe_trans_mean_m = 0, rpe_rot_mean_deg = 0;
+  int rpe_pairs = 0;
+  // KITTI drift averaged over all segments of all lengths.
+  double drift_trans_percent = 0, drift_rot_deg_per_m = 0;
+  int drift_segments = 0;
+  std::vector<double> drift_lengths_m;
+};
+
+// Associates `estimate` with `ground_truth` by timestamp and computes the
+// metrics. Throws uwscan::Error when fewer than 3 poses associate.
+TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estimate,
+                                           const std::vector<StampedPose>& ground_truth,
+                                           const TrajectoryMetricsOptions& options = {});
+
+}  // namespace uwscan

@@ -1,0 +1,76 @@
+// The self-referenced scanner's pose estimation (thesis §5.4-5.5): visual
+// odometry on the passive features of the same images that carry the laser,
+// with the laser line masked out, the features coloured by the LED (the red
+// channel of a raw Bayer frame when the laser is green, §5.5), and metric
+// depth from the laser: the swept surface gives features their range, which
+// enters the windowed bundle adjustment as range constraints. The map is
+// started from the laser surface too, so a hovering platform (millimetre
+// motion, no baseline for two-view initialisation) is tracked from the
+// first frames.
+#pragma once
+
+#include <deque>
+#include <memory>
+#include <optional>
+
+#include "uwscan/fusion/pose_provider.h"
+#include "uwscan/fusion/pose_refinement.h"
+#include "uwscan/fusion/surface_model.h"
+#include "uwscan/sensor/rig.h"
+#include "uwscan/vo/odometry.h"
+
+namespace uwscan::fusion {
+
+struct SelfReferencedOptions {
+  vo::OdometryOptions odometry;
+  SurfaceModelOptions surface;
+  int mask_dilation_px = 4;     // around the detected line (halo, blur)
+  int max_init_frames = 90;     // frames held back while the laser sweeps enough surface
+  int init_attempt_every = 3;   // frames between initialisation attempts
+  // Joint refinement of each pose on features and the laser profile
+  // (pose_refinement.h). Off: on the simulated hover it pinned the profiles
+  // to a surface that drifts with the poses it was built from, and made the
+  // trajectory worse (docs/BENCHMARKS.md).
+  bool refine_with_profile = false;
+  PoseRefinementOptions refinement;
+  void Check() const;
+};
+
+class SelfReferencedPoseProvider : public PoseProvider {
+ public:
+  SelfReferencedPoseProvider(const Camera& camera, int laser_channel,
+                             const SelfReferencedOptions& options = {});
+  std::vector<PoseUpdate> Add(const FrameInput& frame) override;
+  std::vector<PoseUpdate> Finish() override;
+  std::string Name() const override { return "self-referenced visual odometry"; }
+  nlohmann::json Details() const override;
+
+  // The image the odometry tracks: the LED's colour channel of a raw Bayer
+  // or colour frame (not the laser's), else the frame itself.
+  static cv::Mat PassiveImage(const cv::Mat& image, const std::string& bayer, int laser_channel);
+
+ private:
+  struct Held {
+    FrameInput input;   // image owned (cloned)
+    cv::Mat mask;
+    laser::Profile profile;
+  };
+  std::vector<PoseUpdate> TryInitialize();
+  std::optional<PoseUpdate> Track(const Held& frame);
+
+  Camera camera_;
+  int laser_channel_;
+  SelfReferencedOptions options_;
+  std::unique_ptr<vo::Odometry> odometry_;
+  std::unique_ptr<SurfaceModel> surface_;
+  std::deque<Held> held_;
+  bool running_ = false;
+  std::optional<Rigid3d> last_pose_;
+  // Statistics.
+  int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
+  int init_frame_ = -1;
+  int refined_ = 0;
+  long range_constraints_ = 0;
+};
+
+}  // namespace uwscan::fusion

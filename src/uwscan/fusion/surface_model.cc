@@ -1,0 +1,185 @@
+#include "uwscan/fusion/surface_model.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan::fusion {
+
+void SurfaceModelOptions::Check() const {
+  UWS_CHECK(cell_px >= 2 && max_points_per_cell >= 4 && search_radius_cells >= 0 && min_points >= 3,
+            "surface model: invalid options");
+  UWS_CHECK(min_local_width_m >= 0 && min_plane_width_m >= 0 && max_plane_rms_m > 0,
+            "surface model: invalid fit thresholds");
+}
+
+SurfaceModel::SurfaceModel(const Camera& camera, const Rigid3d& world_from_reference,
+                           const SurfaceModelOptions& options)
+    : camera_(camera),
+      world_from_reference_(world_from_reference),
+      reference_from_world_(world_from_reference.Inverse()),
+      options_(options) {
+  options_.Check();
+  cols_ = (camera_.width + options_.cell_px - 1) / options_.cell_px;
+  rows_ = (camera_.height + options_.cell_px - 1) / options_.cell_px;
+  cells_.resize(static_cast<size_t>(cols_) * rows_);
+  insert_counts_.assign(cells_.size(), 0);
+}
+
+std::optional<Eigen::Vector2i> SurfaceModel::CellOf(const Eigen::Vector3d& point_world) const {
+  const auto pixel = camera_.Project(reference_from_world_ * point_world);
+  if (!pixel || !camera_.InImage(*pixel)) return std::nullopt;
+  const int c = std::clamp(static_cast<int>((pixel->x() + 0.5) / options_.cell_px), 0, cols_ - 1);
+  const int r = std::clamp(static_cast<int>((pixel->y() + 0.5) / options_.cell_px), 0, rows_ - 1);
+  return Eigen::Vector2i(c, r);
+}
+
+void SurfaceModel::AddProfile(const Rigid3d& world_from_camera, const laser::Profile& profile) {
+  for (const auto& p : profile.points) {
+    const Eigen::Vector3d world = world_from_camera * p.point_in_camera;
+    // Reservoir sampling (xorshift) keeps a uniform bounded sample.
+    ++seen_;
+    if (static_cast<int>(samples_.size()) < options_.max_plane_samples) {
+      samples_.push_back(world);
+    } else {
+      random_state_ ^= random_state_ << 13;
+      random_state_ ^= random_state_ >> 7;
+      random_state_ ^= random_state_ << 17;
+      const long slot = static_cast<long>(random_state_ % static_cast<uint64_t>(seen_));
+      if (slot < options_.max_plane_samples) samples_[slot] = world;
+    }
+    plane_dirty_ = true;
+    const auto cell = CellOf(world);
+    if (!cell) continue;
+    const size_t index = static_cast<size_t>(cell->y()) * cols_ + cell->x();
+    auto& bucket = cells_[index];
+    // Full cells replace their points round robin: newest measurements win,
+    // memory stays bounded.
+    if (static_cast<int>(bucket.size()) < options_.max_points_per_cell) {
+      bucket.push_back(world);
+      ++points_;
+      depth_sum_ += (reference_from_world_ * world).z();
+    } else {
+      bucket[insert_counts_[index] % options_.max_points_per_cell] = world;
+    }
+    ++insert_counts_[index];
+  }
+}
+
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::FitCell(
+    const Eigen::Vector2i& cell) const {
+  std::vector<const Eigen::Vector3d*> local;
+  const int radius = options_.search_radius_cells;
+  for (int r = std::max(0, cell.y() - radius); r <= std::min(rows_ - 1, cell.y() + radius); ++r) {
+    for (int c = std::max(0, cell.x() - radius); c <= std::min(cols_ - 1, cell.x() + radius); ++c) {
+      for (const auto& p : cells_[static_cast<size_t>(r) * cols_ + c]) local.push_back(&p);
+    }
+  }
+  if (static_cast<int>(local.size()) < options_.min_points) return std::nullopt;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto* p : local) centroid += *p;
+  centroid /= local.size();
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto* p : local) scatter += (*p - centroid) * (*p - centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  const Eigen::Vector3d eigenvalues = solver.eigenvalues();  // ascending
+  if (!(std::sqrt(12.0 * eigenvalues(1) / local.size()) >= options_.min_local_width_m)) {
+    return std::nullopt;
+  }
+  if (!(std::sqrt(std::max(0.0, eigenvalues(0)) / local.size()) <= options_.max_plane_rms_m)) {
+    return std::nullopt;
+  }
+  return std::pair{centroid, Eigen::Vector3d(solver.eigenvectors().col(0))};
+}
+
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::LocalPlane(
+    const Eigen::Vector3d& point_world) const {
+  const auto cell = CellOf(point_world);
+  if (!cell) return std::nullopt;
+  return FitCell(*cell);
+}
+
+std::optional<Eigen::Vector3d> SurfaceModel::IntersectLocal(const Eigen::Vector3d& origin,
+                                                            const Eigen::Vector3d& direction,
+                                                            const Eigen::Vector2i& cell) const {
+  const auto plane = FitCell(cell);
+  if (!plane) return std::nullopt;
+  const auto& [centroid, normal] = *plane;
+  const double denominator = normal.dot(direction);
+  if (!(std::abs(denominator) > 1e-6)) return std::nullopt;
+  const double lambda = normal.dot(centroid - origin) / denominator;
+  if (!(lambda > 0)) return std::nullopt;
+  return origin + lambda * direction;
+}
+
+const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::DominantPlane() const {
+  if (!plane_dirty_) return plane_;
+  plane_dirty_ = false;
+  plane_.reset();
+  if (static_cast<int>(samples_.size()) < options_.min_points) return plane_;
+  // Iteratively reweighted total least squares (Huber, 5 mm).
+  std::vector<double> weights(samples_.size(), 1.0);
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    double total = 0.0;
+    for (size_t i = 0; i < samples_.size(); ++i) centroid += weights[i] * samples_[i], total += weights[i];
+    centroid /= total;
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (size_t i = 0; i < samples_.size(); ++i) {
+      const Eigen::Vector3d d = samples_[i] - centroid;
+      scatter += weights[i] * d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+    if (!(std::sqrt(12.0 * solver.eigenvalues()(1) / total) >= options_.min_plane_width_m)) {
+      return plane_;
+    }
+    const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+    plane_ = std::pair{centroid, normal};
+    for (size_t i = 0; i < samples_.size(); ++i) {
+      const double r = std::abs(normal.dot(samples_[i] - centroid));
+      weights[i] = r <= 0.005 ? 1.0 : 0.005 / r;
+    }
+  }
+  return plane_;
+}
+
+std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& origin,
+                                                         const Eigen::Vector3d& direction) const {
+  if (points_ < options_.min_points) return std::nullopt;
+  const auto local = IntersectSwept(origin, direction);
+  if (local) return Hit{*local, options_.local_sigma_m, false};
+  if (!options_.extrapolate_plane) return std::nullopt;
+  const auto& plane = DominantPlane();
+  if (!plane) return std::nullopt;
+  const double denominator = plane->second.dot(direction);
+  if (!(std::abs(denominator) > 1e-3)) return std::nullopt;
+  const double lambda = plane->second.dot(plane->first - origin) / denominator;
+  if (!(lambda > 0)) return std::nullopt;
+  return Hit{origin + lambda * direction, options_.extrapolated_sigma_m, true};
+}
+
+std::optional<Eigen::Vector3d> SurfaceModel::IntersectSwept(const Eigen::Vector3d& origin,
+                                                            const Eigen::Vector3d& direction) const {
+  // First guess: the mean depth of the measured surface along the
+  // reference view; then refine the cell from the local plane's hit.
+  const Eigen::Vector3d axis = world_from_reference_.rotation * Eigen::Vector3d::UnitZ();
+  const double mean_depth = depth_sum_ / points_;
+  const double towards = axis.dot(direction);
+  if (!(towards > 1e-6)) return std::nullopt;
+  const double lambda =
+      (mean_depth - axis.dot(origin - world_from_reference_.translation)) / towards;
+  auto cell = CellOf(origin + std::max(lambda, 0.0) * direction);
+  std::optional<Eigen::Vector3d> hit;
+  for (int iteration = 0; iteration < 3 && cell; ++iteration) {
+    hit = IntersectLocal(origin, direction, *cell);
+    if (!hit) return std::nullopt;
+    const auto next = CellOf(*hit);
+    if (!next) return std::nullopt;
+    if (*next == *cell) return hit;
+    cell = next;
+  }
+  return hit;
+}
+
+}  // namespace uwscan::fusion

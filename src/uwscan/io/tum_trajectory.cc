@@ -1,0 +1,76 @@
+#include "uwscan/io/tum_trajectory.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "uwscan/util/atomic_file.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+
+TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& source) {
+  TumTrajectory trajectory;
+  std::istringstream in(text);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    if (line[first] == '#') {
+      std::istringstream comment(line.substr(first + 1));
+      std::string word;
+      TrajectoryGap gap;
+      if (comment >> word && word == "gap" && comment >> gap.begin_s >> gap.end_s) {
+        std::getline(comment >> std::ws, gap.reason);
+        trajectory.gaps.push_back(gap);
+      }
+      continue;
+    }
+    std::istringstream fields(line);
+    double v[8];
+    for (double& value : v) {
+      UWS_CHECK(fields >> value, source, ":", line_number,
+                ": expected 8 numbers `t x y z qx qy qz qw`");
+    }
+    std::string rest;
+    UWS_CHECK(!(fields >> rest), source, ":", line_number, ": more than 8 fields");
+    const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    UWS_CHECK(std::abs(q.norm() - 1.0) < 1e-3, source, ":", line_number,
+              ": quaternion is not unit (norm ", q.norm(), ")");
+    trajectory.poses.push_back({v[0], Rigid3d(q, Eigen::Vector3d(v[1], v[2], v[3]))});
+  }
+  return trajectory;
+}
+
+TumTrajectory ReadTumTrajectory(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  UWS_CHECK(in, path.string(), ": cannot open trajectory");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return ParseTumTrajectory(buffer.str(), path.string());
+}
+
+std::string TumTrajectoryToText(const TumTrajectory& trajectory) {
+  std::string out = "# uwscan trajectory: t x y z qx qy qz qw (world_from_camera)\n";
+  char buffer[256];
+  for (const TrajectoryGap& gap : trajectory.gaps) {
+    std::snprintf(buffer, sizeof(buffer), "# gap %.9f %.9f ", gap.begin_s, gap.end_s);
+    out += buffer + gap.reason + "\n";
+  }
+  for (const StampedPose& pose : trajectory.poses) {
+    const Eigen::Quaterniond& q = pose.world_from_camera.rotation;
+    const Eigen::Vector3d& t = pose.world_from_camera.translation;
+    std::snprintf(buffer, sizeof(buffer), "%.9f %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+                  pose.timestamp_s, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+    out += buffer;
+  }
+  return out;
+}
+
+void WriteTumTrajectory(const std::filesystem::path& path, const TumTrajectory& trajectory) {
+  WriteFileAtomic(path, TumTrajectoryToText(trajectory));
+}
+
+}  // namespace uwscan

@@ -1,0 +1,87 @@
+// Sparse feature tracking (thesis §5.2, "Feature Detection & Matching"): the
+// image is split into a grid, each cell keeps its strongest Harris corners,
+// and features are followed with pyramidal Lucas-Kanade (Bouguet 2001) with
+// a forward-backward check. A mask (CV_8U, non-zero = ignore, e.g. the laser
+// line of laser::DetectLaserLine) excludes pixels from detection and drops
+// tracks that land on them.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace uwscan::vo {
+
+struct FeatureTrackerOptions {
+  int grid_cols = 8;
+  int grid_rows = 6;
+  int max_per_cell = 6;
+  double harris_k = 0.04;
+  double quality_level = 0.01;  // relative to the strongest corner in the cell
+  double min_distance_px = 7.0;
+  int klt_window_px = 21;
+  int klt_pyramid_levels = 3;
+  int klt_max_iterations = 30;
+  double forward_backward_px = 0.5;  // max |p - backtrack(track(p))|
+  double border_px = 8.0;            // tracks closer to the border are dropped
+  // Minimum corner response in absolute terms (Harris on 8-bit images), so
+  // that textureless or black frames yield no features rather than noise.
+  double min_harris_response = 1e-5;
+  // Drift-free tracking while the view changes little (a hovering
+  // platform): every frame, tracks are refined by KLT directly from the
+  // anchor image (the last keyframe) instead of only frame to frame, so
+  // sub-pixel errors do not add up between keyframes.
+  bool anchor_refinement = true;
+  double anchor_max_correction_px = 1.0;
+  void Check() const;
+};
+
+struct FeatureTrack {
+  uint64_t id = 0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  int age = 0;  // frames tracked
+  bool anchored = false;  // seen in the anchor image
+  Eigen::Vector2d anchor_pixel = Eigen::Vector2d::Zero();
+};
+
+struct TrackingStats {
+  int tracked = 0;       // survived this frame
+  int lost_klt = 0;      // KLT failure or forward-backward error
+  int lost_border = 0;   // left the image
+  int lost_mask = 0;     // landed on masked pixels
+  int detected = 0;      // new features
+};
+
+class FeatureTracker {
+ public:
+  explicit FeatureTracker(const FeatureTrackerOptions& options = {});
+
+  // Tracks the current features from the previous image into `gray`
+  // (CV_8U). The first call only stores the image. `mask` may be empty.
+  TrackingStats Track(const cv::Mat& gray, const cv::Mat& mask);
+  // Detects new corners in cells holding fewer than max_per_cell features.
+  int Detect(const cv::Mat& mask, TrackingStats* stats = nullptr);
+  // Forgets all features and the previous image.
+  void Reset();
+  // Makes the current image the anchor of all current tracks.
+  void SetAnchor();
+  void RemoveTracks(const std::vector<uint64_t>& ids);
+
+  const std::vector<FeatureTrack>& tracks() const { return tracks_; }
+  int target_count() const { return options_.grid_cols * options_.grid_rows * options_.max_per_cell; }
+  const FeatureTrackerOptions& options() const { return options_; }
+
+ private:
+  FeatureTrackerOptions options_;
+  std::vector<FeatureTrack> tracks_;
+  std::vector<cv::Mat> previous_pyramid_;
+  std::vector<cv::Mat> anchor_pyramid_;
+  void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
+                        const cv::TermCriteria& criteria);
+  cv::Mat previous_gray_;
+  uint64_t next_id_ = 1;
+};
+
+}  // namespace uwscan::vo

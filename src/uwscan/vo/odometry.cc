@@ -1,0 +1,528 @@
+#include "uwscan/vo/odometry.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <chrono>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <unordered_set>
+
+#include "uwscan/util/error.h"
+#include "uwscan/vo/cost_functions.h"
+
+namespace uwscan::vo {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+Ray ToWorld(const Rigid3d& world_from_camera, const Ray& ray) {
+  return {world_from_camera * ray.origin, world_from_camera.rotation * ray.direction};
+}
+
+}  // namespace
+
+const char* FrameStatusName(FrameStatus status) {
+  switch (status) {
+    case FrameStatus::kInitializing: return "initializing";
+    case FrameStatus::kTracked: return "tracked";
+    case FrameStatus::kLost: return "lost";
+    case FrameStatus::kReinitialized: return "reinitialized";
+    case FrameStatus::kInvalid: return "invalid";
+  }
+  return "?";
+}
+
+void OdometryOptions::Check() const {
+  tracker.Check();
+  ba.Check();
+  UWS_CHECK(ransac_threshold_px > 0, "ransac_threshold_px must be > 0");
+  UWS_CHECK(pnp_max_iterations >= 1, "pnp_max_iterations must be >= 1");
+  UWS_CHECK(min_init_matches >= 8, "min_init_matches must be >= 8");
+  UWS_CHECK(init_parallax_fraction > 0 && keyframe_parallax_fraction > 0,
+            "parallax fractions must be > 0");
+  UWS_CHECK(keyframe_min_tracked_ratio >= 0 && keyframe_min_tracked_ratio < 1,
+            "keyframe_min_tracked_ratio must be in [0, 1)");
+  UWS_CHECK(max_init_frames >= 2, "max_init_frames must be >= 2");
+  UWS_CHECK(min_pnp_inliers >= 4, "min_pnp_inliers must be >= 4");
+  UWS_CHECK(min_triangulation_angle_deg > 0, "min_triangulation_angle_deg must be > 0");
+  UWS_CHECK(max_reprojection_px > 0, "max_reprojection_px must be > 0");
+  UWS_CHECK(max_step_depth_ratio > 0, "max_step_depth_ratio must be > 0");
+}
+
+cv::Mat ToGray8(const cv::Mat& image) {
+  cv::Mat gray;
+  if (image.empty()) return gray;
+  cv::Mat channel = image;
+  if (image.channels() == 3 || image.channels() == 4) {
+    cv::extractChannel(image, channel, 1);  // green: the laser channel is masked anyway
+  } else if (image.channels() != 1) {
+    return gray;
+  }
+  if (channel.depth() == CV_8U) return channel;
+  if (channel.depth() == CV_16U) {
+    channel.convertTo(gray, CV_8U, 1.0 / 256.0);
+    return gray;
+  }
+  return gray;
+}
+
+Odometry::Odometry(const Camera& camera, const OdometryOptions& options)
+    : camera_(camera), options_(options), tracker_(options.tracker) {
+  options_.Check();
+  camera_.Check("vo camera");
+}
+
+FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
+                                   const std::vector<RangeConstraint>& ranges) {
+  const auto start = Clock::now();
+  FrameResult result;
+  result.frame_index = frame_count_++;
+  result.timestamp_s = timestamp_s;
+  const cv::Mat gray = ToGray8(image);
+  if (gray.empty() || gray.cols != camera_.width || gray.rows != camera_.height) {
+    result.status = FrameStatus::kInvalid;
+    result.message = image.empty() ? "empty image"
+                     : gray.empty()
+                         ? "unsupported image type"
+                         : "image is " + std::to_string(image.cols) + "x" +
+                               std::to_string(image.rows) + ", camera is " +
+                               std::to_string(camera_.width) + "x" + std::to_string(camera_.height);
+    result.total_time_s = Seconds(start);
+    return result;
+  }
+  UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
+            "vo: mask must be empty or CV_8U of the image size");
+  timestamp_s_ = timestamp_s;
+  result.tracking = tracker_.Track(gray, mask);
+  result.tracks = result.tracking.tracked;
+  result.tracking_time_s = Seconds(start);
+
+  if (state_ == State::kTracking) {
+    Track(mask, ranges, &result);
+  } else {
+    Initialize(mask, &result);
+  }
+  // Keep enough features alive between keyframes.
+  if (int(tracker_.tracks().size()) < tracker_.target_count() / 2) {
+    tracker_.Detect(mask, &result.tracking);
+  }
+  if (result.world_from_camera) last_camera_from_world_ = result.world_from_camera->Inverse();
+  result.total_time_s = Seconds(start);
+  return result;
+}
+
+void Odometry::SetReference(int frame_index) {
+  reference_ = Reference{frame_index, {}};
+  for (const auto& t : tracker_.tracks()) reference_->pixels[t.id] = t.pixel;
+}
+
+void Odometry::MarkLost(const std::string& why, FrameResult* result) {
+  result->status = FrameStatus::kLost;
+  result->message = why;
+  result->world_from_camera.reset();
+  if (state_ == State::kTracking) {
+    if (!map_.keyframes.empty()) last_median_depth_ = MedianDepth(map_.keyframes.back());
+    map_.Clear();
+  }
+  state_ = State::kLost;
+  reference_.reset();
+}
+
+double Odometry::MedianDepth(const Keyframe& keyframe) const {
+  std::vector<double> depths;
+  for (const auto& [id, pixel] : keyframe.observations) {
+    const MapPoint* point = map_.FindPoint(id);
+    if (point) depths.push_back((keyframe.camera_from_world * point->position_world).z());
+  }
+  return depths.empty() ? last_median_depth_ : Median(depths);
+}
+
+void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
+  result->status = state_ == State::kLost ? FrameStatus::kLost : FrameStatus::kInitializing;
+  if (result->message.empty()) {
+    result->message = state_ == State::kLost ? "re-initialising" : "initialising";
+  }
+  const double width = camera_.width;
+  if (!reference_ || result->frame_index - reference_->frame_index > options_.max_init_frames) {
+    tracker_.Detect(mask, &result->tracking);
+    SetReference(result->frame_index);
+    return;
+  }
+  std::vector<Ray> rays1, rays2;
+  std::vector<uint64_t> ids;
+  std::vector<double> flow;
+  for (const auto& t : tracker_.tracks()) {
+    const auto it = reference_->pixels.find(t.id);
+    if (it == reference_->pixels.end()) continue;
+    const auto r1 = camera_.BackProject(it->second), r2 = camera_.BackProject(t.pixel);
+    if (!r1 || !r2) continue;
+    rays1.push_back(*r1);
+    rays2.push_back(*r2);
+    ids.push_back(t.id);
+    flow.push_back((t.pixel - it->second).norm());
+  }
+  if (int(ids.size()) < options_.min_init_matches) {
+    // Too few features survive from the reference: start again from here.
+    tracker_.Detect(mask, &result->tracking);
+    SetReference(result->frame_index);
+    return;
+  }
+  if (Median(flow) < options_.init_parallax_fraction * width) return;
+
+  RelativePoseOptions relative_options;
+  relative_options.threshold_rad = options_.ransac_threshold_px / camera_.intrinsics[0];
+  const RelativePoseResult relative = EstimateRelativePose(rays1, rays2, relative_options);
+  if (!relative.success || relative.num_inliers < options_.min_init_matches) {
+    result->message = "initialisation: relative pose failed";
+    return;
+  }
+  // Two keyframes: the reference at the origin, the current one from the
+  // five-point pose (unit baseline); triangulate the inliers.
+  SparseMap map;
+  Keyframe kf0, kf1;
+  kf0.id = next_keyframe_id_;
+  kf0.frame_index = reference_->frame_index;
+  kf1.id = next_keyframe_id_ + 1;
+  kf1.frame_index = result->frame_index;
+  kf1.timestamp_s = timestamp_s_;
+  kf1.camera_from_world = relative.camera2_from_camera1;
+  const Rigid3d world_from_kf1 = kf1.camera_from_world.Inverse();
+  const double min_angle = options_.min_triangulation_angle_deg * M_PI / 180.0;
+  std::vector<double> angles;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (!relative.inliers[i]) continue;
+    const std::vector<Ray> rays = {rays1[i], ToWorld(world_from_kf1, rays2[i])};
+    const auto point = TriangulateRays(rays);
+    const double angle = MaxRayAngle(rays);
+    if (!point || angle < 0.5 * min_angle) continue;
+    map.points[ids[i]] = {ids[i], *point, 2};
+    kf0.observations[ids[i]] = reference_->pixels.at(ids[i]);
+    kf1.observations[ids[i]] = camera_.Project(kf1.camera_from_world * *point).value_or(
+        Eigen::Vector2d(-1e9, -1e9));
+    angles.push_back(angle);
+  }
+  // Observations in kf1 are the measured pixels.
+  for (const auto& t : tracker_.tracks()) {
+    if (kf1.observations.count(t.id)) kf1.observations[t.id] = t.pixel;
+  }
+  if (int(map.points.size()) < options_.min_init_matches ||
+      Median(angles) < min_angle) {
+    result->message = "initialisation: too little parallax";
+    return;
+  }
+  map.keyframes = {kf0, kf1};
+  // Refine with the camera model (refractive for a flat port), unit baseline.
+  BundleAdjustmentOptions ba = options_.ba;
+  ba.max_iterations = std::max(ba.max_iterations, 20);
+  ba.max_solver_time_s = std::max(ba.max_solver_time_s, 0.5);
+  AdjustWindow(camera_, ba, &map, /*two_view_init=*/true);
+  for (auto it = map.points.begin(); it != map.points.end();) {
+    const bool seen = map.keyframes[0].observations.count(it->first) &&
+                      map.keyframes[1].observations.count(it->first);
+    it = seen ? std::next(it) : map.points.erase(it);
+  }
+  if (int(map.points.size()) < options_.min_init_matches) {
+    result->message = "initialisation: too many outliers after refinement";
+    return;
+  }
+  // Scale and place the new map: median depth 1 at the first start, else
+  // the median depth of the previous map, and the reference camera where the
+  // last pose was (the motion through the gap is unknown).
+  map_ = std::move(map);
+  const double depth = MedianDepth(map_.keyframes[0]);
+  const bool first_map = num_maps_ == 0;
+  const double scale = (first_map ? 1.0 : last_median_depth_) / depth;
+  const Rigid3d world_from_kf0 = first_map ? Rigid3d() : last_camera_from_world_.Inverse();
+  const Rigid3d kf0_from_world = world_from_kf0.Inverse();
+  for (Keyframe& kf : map_.keyframes) {
+    // camera_from_kf0 scaled, then composed with kf0_from_world.
+    Rigid3d camera_from_kf0 = kf.camera_from_world;
+    camera_from_kf0.translation *= scale;
+    kf.camera_from_world = camera_from_kf0 * kf0_from_world;
+  }
+  for (auto& [id, point] : map_.points) {
+    point.position_world = world_from_kf0 * (scale * point.position_world);
+  }
+  next_keyframe_id_ += 2;
+  ++num_maps_;
+  state_ = State::kTracking;
+  result->status = first_map ? FrameStatus::kTracked : FrameStatus::kReinitialized;
+  result->message = first_map ? "initialised" : "re-initialised (new map, scale from previous)";
+  result->keyframe = true;
+  result->world_from_camera = map_.keyframes[1].WorldFromCamera();
+  result->earlier_poses.emplace_back(map_.keyframes[0].frame_index,
+                                     map_.keyframes[0].WorldFromCamera());
+  result->map_matches = result->inliers = int(map_.points.size());
+  last_keyframe_inliers_ = result->inliers;
+  last_median_depth_ = MedianDepth(map_.keyframes[1]);
+  reference_.reset();
+  // Drop tracks that did not make it into the map and refill the grid so
+  // the next keyframe can triangulate new points.
+  std::vector<uint64_t> outliers;
+  for (const auto& t : tracker_.tracks()) {
+    if (reference_ == std::nullopt && !map_.points.count(t.id) &&
+        map_.keyframes[0].observations.count(t.id)) {
+      outliers.push_back(t.id);
+    }
+  }
+  tracker_.RemoveTracks(outliers);
+  tracker_.Detect(mask, &result->tracking);
+  tracker_.SetAnchor();
+  for (const auto& t : tracker_.tracks()) map_.keyframes[1].observations[t.id] = t.pixel;
+}
+
+void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ranges,
+                     FrameResult* result) {
+  std::vector<Ray> rays;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<uint64_t> ids;
+  std::vector<Eigen::Vector2d> pixels;
+  for (const auto& t : tracker_.tracks()) {
+    const MapPoint* point = map_.FindPoint(t.id);
+    if (!point) continue;
+    const auto ray = camera_.BackProject(t.pixel);
+    if (!ray) continue;
+    rays.push_back(*ray);
+    points.push_back(point->position_world);
+    ids.push_back(t.id);
+    pixels.push_back(t.pixel);
+  }
+  result->map_matches = int(ids.size());
+  if (int(ids.size()) < options_.min_pnp_inliers) {
+    MarkLost("too few map points tracked (" + std::to_string(ids.size()) + ")", result);
+    return;
+  }
+  AbsolutePoseOptions pnp_options;
+  pnp_options.solver = options_.pose_solver;
+  pnp_options.threshold_rad = options_.ransac_threshold_px / camera_.intrinsics[0];
+  pnp_options.max_iterations = options_.pnp_max_iterations;
+  const AbsolutePoseResult pnp = EstimateAbsolutePose(rays, points, pnp_options);
+  if (!pnp.success || pnp.num_inliers < options_.min_pnp_inliers) {
+    MarkLost("pose estimation failed (" + std::to_string(pnp.num_inliers) + " inliers)", result);
+    return;
+  }
+  // Refine on the inliers by minimising the re-projection error.
+  const CameraParams params(camera_);
+  const Eigen::Quaterniond q0 = pnp.camera_from_world.rotation;
+  double q[4] = {q0.x(), q0.y(), q0.z(), q0.w()};
+  Eigen::Vector3d t = pnp.camera_from_world.translation;
+  {
+    ceres::Problem problem;
+    for (size_t i = 0; i < ids.size(); ++i) {
+      if (!pnp.inliers[i]) continue;
+      const ReprojectionCost cost(params, options_.ba.method, options_.ba.taylor_iterations,
+                                  pixels[i], 1.0);
+      problem.AddResidualBlock(PoseReprojectionCost::Create(cost, points[i]),
+                               new ceres::HuberLoss(options_.ba.huber_px), q, t.data());
+    }
+    problem.SetManifold(q, new ceres::EigenQuaternionManifold);
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::DENSE_QR;
+    solver_options.max_num_iterations = 10;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, &problem, &summary);
+  }
+  const Rigid3d camera_from_world(Eigen::Quaterniond(q[3], q[0], q[1], q[2]), t);
+  std::vector<uint64_t> outliers;
+  int inliers = 0;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const auto pixel = camera_.Project(camera_from_world * points[i], options_.ba.method,
+                                       options_.ba.taylor_iterations);
+    if (pixel && (*pixel - pixels[i]).norm() <= options_.max_reprojection_px) {
+      ++inliers;
+    } else {
+      outliers.push_back(ids[i]);
+    }
+  }
+  result->inliers = inliers;
+  if (inliers < options_.min_pnp_inliers) {
+    MarkLost("too few inliers after refinement (" + std::to_string(inliers) + ")", result);
+    return;
+  }
+  // A pose that jumps far from the last one is not believed.
+  const double step = (camera_from_world.Inverse().translation -
+                       last_camera_from_world_.Inverse().translation).norm();
+  if (step > options_.max_step_depth_ratio * last_median_depth_) {
+    MarkLost("implausible jump of " + std::to_string(step / last_median_depth_) +
+                 " median depths",
+             result);
+    return;
+  }
+  tracker_.RemoveTracks(outliers);
+  result->status = FrameStatus::kTracked;
+  result->world_from_camera = camera_from_world.Inverse();
+
+  // Keyframe by parallax to the last keyframe, or when the map thins out.
+  const Keyframe& last = map_.keyframes.back();
+  std::vector<double> flow;
+  for (const auto& tr : tracker_.tracks()) {
+    const auto it = last.observations.find(tr.id);
+    if (it != last.observations.end()) flow.push_back((tr.pixel - it->second).norm());
+  }
+  const bool keyframe =
+      Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
+      inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
+      (options_.keyframe_on_range_constraints && !ranges.empty());
+  if (keyframe) AddKeyframe(camera_from_world, mask, ranges, result);
+}
+
+void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
+                           const std::vector<RangeConstraint>& ranges, FrameResult* result) {
+  // New features first, so that they are observed in this keyframe.
+  tracker_.Detect(mask, &result->tracking);
+  Keyframe kf;
+  kf.id = next_keyframe_id_++;
+  kf.frame_index = result->frame_index;
+  kf.timestamp_s = timestamp_s_;
+  kf.camera_from_world = camera_from_world;
+  for (const auto& t : tracker_.tracks()) kf.observations[t.id] = t.pixel;
+  kf.range_constraints = ranges;
+  map_.keyframes.push_back(std::move(kf));
+  tracker_.SetAnchor();
+
+  // Triangulate tracks seen in earlier keyframes of the window but not yet
+  // in the map, from all their keyframe rays (widest baseline included).
+  const int window = options_.ba.window_size;
+  const int first = std::max(0, int(map_.keyframes.size()) - window);
+  const Keyframe& newest = map_.keyframes.back();
+  const double min_angle = options_.min_triangulation_angle_deg * M_PI / 180.0;
+  for (const auto& [id, pixel] : newest.observations) {
+    if (map_.points.count(id)) continue;
+    std::vector<Ray> rays;
+    std::vector<const Keyframe*> seen_by;
+    for (int k = first; k < int(map_.keyframes.size()); ++k) {
+      const Keyframe& kf_k = map_.keyframes[size_t(k)];
+      const auto obs = kf_k.observations.find(id);
+      if (obs == kf_k.observations.end()) continue;
+      const auto ray = camera_.BackProject(obs->second);
+      if (!ray) continue;
+      rays.push_back(ToWorld(kf_k.WorldFromCamera(), *ray));
+      seen_by.push_back(&kf_k);
+    }
+    if (rays.size() < 2 || MaxRayAngle(rays) < min_angle) continue;
+    const auto point = TriangulateRays(rays);
+    if (!point) continue;
+    bool good = true;
+    for (const Keyframe* kf_k : seen_by) {
+      const auto projected = camera_.Project(kf_k->camera_from_world * *point);
+      good = good && projected &&
+             (*projected - kf_k->observations.at(id)).norm() <= options_.max_reprojection_px;
+    }
+    if (good) map_.points[id] = {id, *point, int(rays.size())};
+  }
+  if (options_.surface) AddSurfacePoints(&map_.keyframes.back());
+
+  result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
+  tracker_.RemoveTracks(result->bundle_adjustment.removed_observations);
+  for (uint64_t id : result->bundle_adjustment.removed_observations) map_.points.erase(id);
+  while (int(map_.keyframes.size()) > window) map_.keyframes.pop_front();
+  PruneMap();
+  const Keyframe& adjusted = map_.keyframes.back();
+  result->keyframe = true;
+  result->world_from_camera = adjusted.WorldFromCamera();
+  last_median_depth_ = MedianDepth(adjusted);
+  int tracked_points = 0;
+  for (const auto& t : tracker_.tracks()) tracked_points += map_.points.count(t.id) ? 1 : 0;
+  last_keyframe_inliers_ = tracked_points;
+}
+
+void Odometry::PruneMap() {
+  std::unordered_set<uint64_t> alive;
+  for (const auto& t : tracker_.tracks()) alive.insert(t.id);
+  for (const Keyframe& kf : map_.keyframes) {
+    for (const auto& [id, pixel] : kf.observations) alive.insert(id);
+  }
+  for (auto it = map_.points.begin(); it != map_.points.end();) {
+    it = alive.count(it->first) ? std::next(it) : map_.points.erase(it);
+  }
+}
+
+}  // namespace uwscan::vo
+
+namespace uwscan::vo {
+
+int Odometry::AddSurfacePoints(Keyframe* keyframe) {
+  const Rigid3d world_from_camera = keyframe->WorldFromCamera();
+  int added = 0;
+  for (const auto& [id, pixel] : keyframe->observations) {
+    if (map_.points.count(id)) continue;
+    const auto ray = camera_.BackProject(pixel);
+    if (!ray) continue;
+    const Ray world = ToWorld(world_from_camera, *ray);
+    const auto hit = options_.surface(world.origin, world.direction);
+    if (!hit) continue;
+    map_.points[id] = {id, hit->point_world, 1};
+    keyframe->range_constraints.push_back(
+        {id, (hit->point_world - world.origin).norm(), hit->sigma_m});
+    ++added;
+  }
+  return added;
+}
+
+FrameResult Odometry::InitializeFromSurface(const cv::Mat& image, const cv::Mat& mask,
+                                            double timestamp_s, const Rigid3d& world_from_camera) {
+  UWS_CHECK(static_cast<bool>(options_.surface), "vo: InitializeFromSurface needs options.surface");
+  const auto start = Clock::now();
+  FrameResult result;
+  result.frame_index = frame_count_++;
+  result.timestamp_s = timestamp_s;
+  result.status = FrameStatus::kInitializing;
+  const cv::Mat gray = ToGray8(image);
+  if (gray.empty() || gray.cols != camera_.width || gray.rows != camera_.height) {
+    result.status = FrameStatus::kInvalid;
+    result.message = "invalid image for initialisation";
+    return result;
+  }
+  UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
+            "vo: mask must be empty or CV_8U of the image size");
+  timestamp_s_ = timestamp_s;
+  tracker_.Reset();
+  result.tracking = tracker_.Track(gray, mask);
+  tracker_.Detect(mask, &result.tracking);
+  tracker_.SetAnchor();
+  SparseMap previous = std::move(map_);
+  map_.Clear();
+  Keyframe keyframe;
+  keyframe.id = next_keyframe_id_;
+  keyframe.frame_index = result.frame_index;
+  keyframe.timestamp_s = timestamp_s;
+  keyframe.camera_from_world = world_from_camera.Inverse();
+  for (const auto& t : tracker_.tracks()) keyframe.observations[t.id] = t.pixel;
+  const int points = AddSurfacePoints(&keyframe);
+  if (points < options_.min_pnp_inliers) {
+    map_ = std::move(previous);
+    result.message = "surface initialisation: " + std::to_string(points) +
+                     " features with a measured depth (need " +
+                     std::to_string(options_.min_pnp_inliers) + ")";
+    result.total_time_s = Seconds(start);
+    return result;
+  }
+  map_.keyframes.push_back(std::move(keyframe));
+  ++next_keyframe_id_;
+  ++num_maps_;
+  state_ = State::kTracking;
+  reference_.reset();
+  result.status = FrameStatus::kTracked;
+  result.message = "initialised from the measured surface";
+  result.keyframe = true;
+  result.world_from_camera = world_from_camera;
+  result.map_matches = result.inliers = points;
+  last_keyframe_inliers_ = points;
+  last_camera_from_world_ = world_from_camera.Inverse();
+  last_median_depth_ = MedianDepth(map_.keyframes.back());
+  result.total_time_s = Seconds(start);
+  return result;
+}
+
+}  // namespace uwscan::vo

@@ -1,0 +1,155 @@
+// Monocular visual odometry for flat-port (or pinhole) cameras, thesis §5.2:
+// Harris + pyramidal KLT tracking with a per-frame mask, five-point
+// initialisation refined with the refractive model, (generalised) P3P
+// tracking against the map with re-projection refinement, keyframes by
+// parallax, triangulation across the widest baseline and windowed bundle
+// adjustment. Frames come one by one; memory is bounded by the window.
+//
+// Interfaces for the fusion (thesis §5.4): a mask of pixels to ignore per
+// frame (the laser line), range constraints passed with a frame (added to
+// the windowed BA when the frame is a keyframe), an ExtraResidualCallback in
+// BundleAdjustmentOptions, and read access to the map (keyframes, points).
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <functional>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "uwscan/sensor/camera.h"
+#include "uwscan/vo/feature_tracker.h"
+#include "uwscan/vo/geometric_solvers.h"
+#include "uwscan/vo/map.h"
+#include "uwscan/vo/windowed_bundle_adjuster.h"
+
+namespace uwscan::vo {
+
+// Where a ray meets a metrically measured surface, and how well that is known.
+struct SurfaceHit {
+  Eigen::Vector3d point_world;
+  double sigma_m = 0.003;
+};
+
+enum class FrameStatus {
+  kInitializing,   // no map yet (start of the sequence): no pose
+  kTracked,        // pose from the map
+  kLost,           // tracking lost, waiting for re-initialisation: no pose
+  kReinitialized,  // first pose of a new map after a loss; the gap before it is marked
+  kInvalid,        // frame rejected (empty, wrong size or type): no pose, state unchanged
+};
+const char* FrameStatusName(FrameStatus status);
+
+struct OdometryOptions {
+  FeatureTrackerOptions tracker;
+  BundleAdjustmentOptions ba;
+  AbsolutePoseSolver pose_solver = AbsolutePoseSolver::kGP3P;
+  double ransac_threshold_px = 1.5;
+  int pnp_max_iterations = 100;
+  int min_init_matches = 40;
+  // Median feature displacement needed to initialise / to start a keyframe,
+  // as a fraction of the image width.
+  double init_parallax_fraction = 0.05;
+  double keyframe_parallax_fraction = 0.04;
+  // A keyframe is also made when the tracked map points fall below this
+  // fraction of those of the last keyframe.
+  double keyframe_min_tracked_ratio = 0.6;
+  int max_init_frames = 40;  // the initialisation reference is renewed after this
+  int min_pnp_inliers = 15;
+  double min_triangulation_angle_deg = 1.0;
+  double max_reprojection_px = 2.5;
+  // Largest plausible motion between two frames relative to the median scene
+  // depth; a larger jump is treated as a tracking failure.
+  double max_step_depth_ratio = 0.5;
+  bool keyframe_on_range_constraints = true;
+  // Depth from an active sensor (fusion, thesis §5.4): where a world ray
+  // (origin, unit direction) meets the metrically measured scene, if known.
+  // When set, tracks that cannot be triangulated (too little baseline, as
+  // on a hovering platform) get their map point there at keyframes, with a
+  // range constraint of the hit's uncertainty in that keyframe.
+  std::function<std::optional<SurfaceHit>(const Eigen::Vector3d&, const Eigen::Vector3d&)> surface;
+  void Check() const;
+};
+
+struct FrameResult {
+  int frame_index = 0;  // running count of ProcessFrame calls
+  double timestamp_s = 0.0;
+  FrameStatus status = FrameStatus::kInitializing;
+  std::optional<Rigid3d> world_from_camera;
+  bool keyframe = false;
+  int tracks = 0;       // features tracked into this frame
+  int map_matches = 0;  // of them with a map point
+  int inliers = 0;      // pose inliers
+  std::string message;  // why a frame was lost or rejected
+  // Poses of earlier frames that become known with this one (the
+  // initialisation reference frame): frame_index -> world_from_camera.
+  std::vector<std::pair<int, Rigid3d>> earlier_poses;
+  TrackingStats tracking;
+  BundleAdjustmentSummary bundle_adjustment;  // when keyframe
+  double tracking_time_s = 0.0;  // features only
+  double total_time_s = 0.0;
+};
+
+class Odometry {
+ public:
+  Odometry(const Camera& camera, const OdometryOptions& options = {});
+
+  // `image`: 8-bit grey, 16-bit grey or 8-bit colour (green channel is
+  // used), of the camera's size. `mask`: empty or CV_8U of the image size,
+  // non-zero = ignore (e.g. laser::LaserDetection::mask). `ranges` refer to
+  // map point ids seen in this frame. Never throws on bad image content;
+  // throws uwscan::Error for a mask of the wrong size/type (a caller bug).
+  FrameResult ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
+                           const std::vector<RangeConstraint>& ranges = {});
+
+  // Starts a map at this frame from `options.surface` instead of two-view
+  // geometry: the frame becomes the first keyframe at `world_from_camera`
+  // and every feature whose ray meets the surface a map point. Returns
+  // status kTracked on success; kInitializing (state unchanged otherwise)
+  // when too few features have a depth yet.
+  FrameResult InitializeFromSurface(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
+                                    const Rigid3d& world_from_camera);
+
+  const SparseMap& map() const { return map_; }
+  const std::vector<FeatureTrack>& tracks() const { return tracker_.tracks(); }
+  const Camera& camera() const { return camera_; }
+  const OdometryOptions& options() const { return options_; }
+  int num_maps() const { return num_maps_; }  // 1 + re-initialisations
+
+ private:
+  struct Reference {
+    int frame_index = 0;
+    std::unordered_map<uint64_t, Eigen::Vector2d> pixels;
+  };
+  void Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ranges, FrameResult* result);
+  void Initialize(const cv::Mat& mask, FrameResult* result);
+  void SetReference(int frame_index);
+  void MarkLost(const std::string& why, FrameResult* result);
+  void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
+                   const std::vector<RangeConstraint>& ranges, FrameResult* result);
+  void PruneMap();
+  // Map points for the newest keyframe's tracks from options_.surface.
+  int AddSurfacePoints(Keyframe* keyframe);
+  double MedianDepth(const Keyframe& keyframe) const;
+
+  Camera camera_;
+  OdometryOptions options_;
+  FeatureTracker tracker_;
+  SparseMap map_;
+  enum class State { kInitializing, kTracking, kLost } state_ = State::kInitializing;
+  std::optional<Reference> reference_;
+  int frame_count_ = 0;
+  double timestamp_s_ = 0.0;
+  uint64_t next_keyframe_id_ = 0;
+  int num_maps_ = 0;
+  int last_keyframe_inliers_ = 0;
+  Rigid3d last_camera_from_world_;  // last emitted pose
+  double last_median_depth_ = 1.0;  // scale carried over a re-initialisation
+};
+
+// 8-bit grey view of a frame (16-bit scaled, colour -> green channel); empty
+// if the type is unsupported.
+cv::Mat ToGray8(const cv::Mat& image);
+
+}  // namespace uwscan::vo
