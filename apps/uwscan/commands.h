@@ -14,5 +14,6 @@ void RegisterLaserCommands(CLI::App& app);
 void RegisterSimulateCommand(CLI::App& app);
 void RegisterReconstructCommand(CLI::App& app);
 void RegisterEvaluateCommand(CLI::App& app);
+void RegisterCalibrateCommands(CLI::App& app);
 
 }  // namespace uwscan::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   uwscan::cli::RegisterSimulateCommand(app);
   uwscan::cli::RegisterReconstructCommand(app);
   uwscan::cli::RegisterEvaluateCommand(app);
+  uwscan::cli::RegisterCalibrateCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,187 @@
+#include "uwscan/calib/calibration_pipeline.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "uwscan/calib/board_pose.h"
+#include "uwscan/calib/calibration_report.h"
+#include "uwscan/calib/laser_points.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+std::string Summary(const CameraCalibrationResult& r) {
+  char line[512];
+  int n = std::snprintf(line, sizeof(line),
+                        "%-15s rms %.4f px, %d views used, fx %.3f fy %.3f cx %.3f cy %.3f",
+                        r.stage.c_str(), r.rms_px, r.used_views, r.camera.intrinsics[0],
+                        r.camera.intrinsics[1], r.camera.intrinsics[2], r.camera.intrinsics[3]);
+  if (r.camera.IsFlatPort() && n > 0 && n < static_cast<int>(sizeof(line))) {
+    std::snprintf(line + n, sizeof(line) - n, ", d_air %.2f mm, tilt %.3f deg, n_water %.4f",
+                  r.camera.port.d_air * 1e3, r.camera.port.TiltRad() * 180.0 / M_PI,
+                  r.camera.port.n_water);
+  }
+  std::string text = line;
+  for (const ViewReport& v : r.views) {
+    if (!v.used) text += "\n  dropped " + v.name + ": " + v.dropped_reason;
+  }
+  return text;
+}
+
+std::string DetectionSummary(const std::filesystem::path& folder, const FolderDetection& d) {
+  std::string text = folder.string() + ": board found in " + std::to_string(d.set.views.size()) +
+                     " of " + std::to_string(d.images.size()) + " image(s)";
+  for (const BoardDetection& b : d.images) {
+    if (!b.found) text += "\n  " + b.name + ": " + b.reason;
+  }
+  return text;
+}
+
+}  // namespace
+
+void CameraPipelineOptions::Check() const {
+  board.Check();
+  calibration.Check();
+  detection.Check();
+  if (model == CameraModelId::kPinhole && !water.empty()) {
+    throw UsageError("water images need the flat-port model");
+  }
+  UWS_CHECK(n_glass >= 1.0 && n_glass < 3.0, "glass index must be in [1, 3), got ", n_glass);
+  UWS_CHECK(d_glass > 0.0 && d_glass < 0.2, "glass thickness must be in (0, 0.2) m, got ", d_glass);
+  UWS_CHECK(n_water >= 1.0 && n_water < 2.0, "water index must be in [1, 2), got ", n_water);
+}
+
+CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options) {
+  options.Check();
+  CameraPipelineResult out;
+  nlohmann::json& report = out.report;
+  report["board"] = options.board.ToString();
+  report["detector"] = CornerDetectorName(options.detection.detector);
+  const FolderDetection air =
+      DetectBoardsInFolder(options.images, options.board, options.detection);
+  out.log.push_back(DetectionSummary(options.images, air));
+  report["detections"] = DetectionsToJson(air.images);
+
+  Camera camera;
+  camera.name = options.camera_name;
+  CameraCalibrationResult result = CalibratePinhole(air.set, camera, options.calibration);
+  out.log.push_back(Summary(result));
+  report["stages"].push_back(CameraResultToJson(result));
+  const std::vector<double> ranges = {0.3, 0.5, 1.0, 2.0, 3.0, 5.0};
+
+  if (options.model == CameraModelId::kFlatPort) {
+    FlatPortAirOptions air_options;
+    air_options.common = options.calibration;
+    air_options.n_glass = options.n_glass;
+    air_options.d_glass = options.d_glass;
+    const CameraCalibrationResult in_air = CalibrateFlatPortInAir(air.set, result, air_options);
+    out.log.push_back(Summary(in_air));
+    report["stages"].push_back(CameraResultToJson(in_air));
+    result = in_air;
+    result.camera.port.n_water = options.n_water;  // the medium it will be used in
+    if (!options.water.empty()) {
+      const FolderDetection water =
+          DetectBoardsInFolder(options.water, options.board, options.detection);
+      out.log.push_back(DetectionSummary(options.water, water));
+      report["water_detections"] = DetectionsToJson(water.images);
+      UWS_CHECK(water.set.width == air.set.width && water.set.height == air.set.height,
+                options.water.string(), ": water images are ", water.set.width, "x",
+                water.set.height, " but air images are ", air.set.width, "x", air.set.height);
+      WaterRefinementOptions water_options;
+      water_options.common = options.calibration;
+      water_options.n_water = options.n_water;
+      water_options.estimate_n_water = options.estimate_n_water;
+      water_options.residual = options.residual;
+      const CameraCalibrationResult sequential =
+          RefineFlatPortInWater(water.set, in_air.camera, water_options);
+      out.log.push_back(Summary(sequential));
+      report["stages"].push_back(CameraResultToJson(sequential));
+      result = CalibrateFlatPortJoint(air.set, in_air, water.set, water_options);
+      out.log.push_back(Summary(result));
+      report["stages"].push_back(CameraResultToJson(result));
+      // The usual shortcut, for comparison: a pinhole calibrated under water.
+      const CameraCalibrationResult pin_water =
+          CalibratePinhole(water.set, camera, options.calibration);
+      out.log.push_back(Summary(pin_water) + "  (pinhole on the water images)");
+      report["pinhole_in_water"] = CameraResultToJson(pin_water);
+      report["pinhole_vs_flatport"] =
+          PinholeComparisonJson(result.camera, &pin_water.camera, ranges, 1.0);
+    } else {
+      report["pinhole_vs_flatport"] = PinholeComparisonJson(result.camera, nullptr, ranges, 1.0);
+    }
+  }
+  report["result"] = CameraResultToJson(result);
+  out.residual_plot = DrawResidualField(result, result.camera.width, result.camera.height);
+  out.result = result;
+  return out;
+}
+
+LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelineOptions& options) {
+  const FolderDetection detection =
+      DetectBoardsInFolder(options.images, options.board, options.detection);
+  UWS_CHECK(detection.set.width == camera.width && detection.set.height == camera.height,
+            options.images.string(), ": images are ", detection.set.width, "x",
+            detection.set.height, " but camera '", camera.name, "' is ", camera.width, "x",
+            camera.height);
+  std::vector<LaserView> views;
+  nlohmann::json view_list = nlohmann::json::array();
+  for (const ViewCorners& view : detection.set.views) {
+    const auto pose = EstimateBoardPose(camera, options.board, view.corners);
+    if (!pose) {
+      view_list.push_back({{"image", view.name}, {"used", false}, {"reason", "no board pose"}});
+      continue;
+    }
+    const cv::Mat image = cv::imread((options.images / view.name).string());
+    LaserView laser_view;
+    laser_view.name = view.name;
+    laser_view.camera_from_board = pose->camera_from_board;
+    laser_view.laser_pixels = ExtractLaserPixels(image, options.board, view.corners);
+    if (options.servo) {
+      const auto angle = options.servo_angles_rad.find(view.name);
+      UWS_CHECK(angle != options.servo_angles_rad.end(), options.images.string(), ": image '",
+                view.name, "' has no servo angle");
+      laser_view.servo_angle_rad = angle->second;
+    }
+    view_list.push_back({{"image", view.name},
+                         {"used", true},
+                         {"board_rms_px", pose->rms_px},
+                         {"range_m", pose->camera_from_board.translation.norm()},
+                         {"laser_pixels", laser_view.laser_pixels.size()}});
+    views.push_back(laser_view);
+  }
+  LaserPipelineResult out;
+  out.result =
+      CalibrateLaser(camera, views, options.calibration, options.servo ? &*options.servo : nullptr);
+  out.report = {{"laser", LaserResultToJson(out.result)},
+                {"views", view_list},
+                {"detections", DetectionsToJson(detection.images)}};
+  return out;
+}
+
+std::map<std::string, double> ReadServoAngles(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  UWS_CHECK(in, path.string(), ": cannot open the servo angle file");
+  std::map<std::string, double> angles;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    const size_t comma = line.find(',');
+    char* end = nullptr;
+    const double degrees =
+        comma == std::string::npos ? 0.0 : std::strtod(line.c_str() + comma + 1, &end);
+    if (comma == std::string::npos || end == line.c_str() + comma + 1 ||
+        (end && *end != '\0' && *end != '\r')) {
+      if (number == 1) continue;  // header
+      UWS_THROW(path.string(), ":", number, ": expected 'file,angle_deg', got '", line, "'");
+    }
+    angles[line.substr(0, comma)] = degrees * M_PI / 180.0;
+  }
+  UWS_CHECK(!angles.empty(), path.string(), ": no servo angles");
+  return angles;
+}
+
+}  // namespace uwscan

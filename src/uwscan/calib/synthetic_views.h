@@ -1,0 +1,37 @@
+// Synthetic checkerboard observations with ground truth: boards at random
+// poses in a range band, projected with the exact model of a camera, plus
+// Gaussian corner noise. Feeds tests and the detector benchmark until the
+// simulator's image scenarios exist.
+#pragma once
+
+#include <vector>
+
+#include "uwscan/calib/board.h"
+#include "uwscan/geometry/rigid3d.h"
+#include "uwscan/sensor/camera.h"
+
+namespace uwscan {
+
+struct SyntheticViewOptions {
+  int num_views = 15;
+  double min_range_m = 0.3;  // distance of the board centre from the camera
+  double max_range_m = 0.7;
+  double max_tilt_deg = 35.0;  // board normal against the viewing ray
+  double noise_px = 0.0;       // std of Gaussian noise per coordinate
+  double margin_px = 10.0;     // every corner this far inside the image
+  unsigned seed = 1;
+  void Check() const;
+};
+
+// Throws uwscan::Error if no valid pose is found after many tries (board
+// too large for the range band).
+CornerSet SyntheticCornerSet(const Camera& truth, const BoardSpec& board,
+                             const SyntheticViewOptions& options,
+                             std::vector<Rigid3d>* camera_from_board = nullptr);
+
+// Exact projections of board corners at a given pose; false if any corner
+// does not project inside the image.
+bool ProjectBoard(const Camera& camera, const BoardSpec& board, const Rigid3d& camera_from_board,
+                  double margin_px, std::vector<Eigen::Vector2d>* corners);
+
+}  // namespace uwscan

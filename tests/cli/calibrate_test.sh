@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# CLI tests of `uwscan calibrate`: a real run on OpenCV's sample images
+# (Debian opencv-doc) and the bad-input paths (exit status, one clear error
+# line, no rig written).
+set -u
+UWSCAN=${1:?usage: calibrate_test.sh path/to/uwscan}
+DATA=/usr/share/doc/opencv-doc/examples/data
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# expect STATUS PATTERN -- command...: exit status and a stderr pattern.
+expect() {
+  local status=$1 pattern=$2
+  shift 3
+  "$@" >"$TMP/stdout" 2>"$TMP/stderr"
+  local got=$?
+  [[ $got == "$status" ]] || fail "exit $got (want $status): $* :: $(cat "$TMP/stderr")"
+  grep -q -- "$pattern" "$TMP/stderr" || fail "stderr lacks '$pattern': $* :: $(cat "$TMP/stderr")"
+}
+
+if [[ -f $DATA/left01.jpg ]]; then
+  mkdir -p "$TMP/left" "$TMP/few" "$TMP/five" "$TMP/mixed" "$TMP/out"
+  cp "$DATA"/left[0-9][0-9].jpg "$TMP/left/"
+  cp "$DATA"/left01.jpg "$DATA"/left02.jpg "$TMP/few/"
+  cp "$DATA"/left0[1-5].jpg "$TMP/five/"  # small sets keep the test quick
+  "$UWSCAN" calibrate camera --images "$TMP/left" --board 9x6:0.025 --out "$TMP/out/rig.yaml" \
+    --report "$TMP/out/report" >"$TMP/stdout" 2>"$TMP/stderr" || fail "real images: $(cat "$TMP/stderr")"
+  grep -q "model: pinhole" "$TMP/out/rig.yaml" || fail "rig.yaml lacks the pinhole camera"
+  grep -q '"dropped_reason"' "$TMP/out/report/calibration.json" || fail "report lacks views"
+  [[ -s $TMP/out/report/calibration_residuals.png ]] || fail "no residual PNG"
+  # --rig keeps the lasers of an existing rig and replaces the named camera.
+  { cat "$TMP/out/rig.yaml"; printf 'lasers:\n  - name: laser0\n    camera_from_laser: {q: [1, 0, 0, 0], t: [0.3, 0, 0]}\n    p1: 0.0\n    wavelength_nm: 532\n'; } >"$TMP/with_laser.yaml"
+  "$UWSCAN" calibrate camera --images "$TMP/five" --board 9x6:0.025 --rig "$TMP/with_laser.yaml" \
+    --out "$TMP/out/rig2.yaml" --quiet >/dev/null 2>"$TMP/stderr" || fail "--rig: $(cat "$TMP/stderr")"
+  grep -q "laser0" "$TMP/out/rig2.yaml" || fail "--rig dropped the laser"
+  [[ $(grep -c "name: cam0" "$TMP/out/rig2.yaml") == 1 ]] || fail "--rig duplicated the camera"
+
+  # Wrong board size: no board anywhere.
+  expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/five" \
+    --board 7x5:0.025 --out "$TMP/bad.yaml"
+  # No board in any image.
+  mkdir -p "$TMP/noboard"
+  cp "$DATA/box.png" "$TMP/noboard/" 2>/dev/null || true
+  if ls "$TMP/noboard"/*.png >/dev/null 2>&1; then
+    expect 1 "no 9x6 board found in any" -- "$UWSCAN" calibrate camera --images "$TMP/noboard" \
+      --board 9x6:0.025 --out "$TMP/bad.yaml"
+  fi
+  # Too few views.
+  expect 1 "need at least 3" -- "$UWSCAN" calibrate camera --images "$TMP/few" \
+    --board 9x6:0.025 --out "$TMP/bad.yaml"
+  # Images of different sizes.
+  cp "$DATA/left01.jpg" "$TMP/mixed/"
+  cp "$DATA/lena.jpg" "$TMP/mixed/z.jpg" 2>/dev/null || cp "$DATA/box.png" "$TMP/mixed/z.png"
+  expect 1 "same size" -- "$UWSCAN" calibrate camera --images "$TMP/mixed" --board 9x6:0.025 \
+    --out "$TMP/bad.yaml"
+  # A rig without the named camera.
+  expect 1 "nope" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" --camera nope \
+    --images "$TMP/left" --board 9x6:0.025 --out "$TMP/bad.yaml"
+  # Servo options: both or neither; a bad angle file names the line.
+  expect 2 "go together" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" \
+    --images "$TMP/left" --board 9x6:0.025 --servo-axis 0,0,0,0,1,0 --out "$TMP/bad.yaml"
+  printf 'file,angle_deg\nleft01.jpg,zero\n' >"$TMP/angles.csv"
+  expect 1 "angles.csv:2" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" \
+    --images "$TMP/few" --board 9x6:0.025 --servo-axis 0,0,0,0,1,0 \
+    --servo-angles "$TMP/angles.csv" --out "$TMP/bad.yaml"
+  # Flat port without the glass.
+  expect 2 "glass" -- "$UWSCAN" calibrate camera --images "$TMP/left" --board 9x6:0.025 \
+    --model flatport --out "$TMP/bad.yaml"
+fi
+# No such folder; bad board text.
+expect 1 "not a directory" -- "$UWSCAN" calibrate camera --images "$TMP/none" --board 9x6:0.025 \
+  --out "$TMP/bad.yaml"
+expect 2 "COLSxROWS" -- "$UWSCAN" calibrate camera --images "$TMP" --board 9by6 --out "$TMP/bad.yaml"
+[[ -e $TMP/bad.yaml ]] && fail "a rig was written on error"
+ls "$TMP"/bad.yaml.tmp* >/dev/null 2>&1 && fail "a temporary rig was left behind"
+[[ $failures == 0 ]] && echo "calibrate CLI tests passed"
+exit $((failures > 0))
