@@ -45,8 +45,8 @@ double PixelGain(const Camera& camera, const Eigen::Vector2d& pixel, const Eigen
 void RenderOptions::Check(const std::string& context) const {
   UWS_CHECK(laser_supersample >= 1 && laser_supersample <= 16, context,
             ": laser_supersample must be 1..16");
-  UWS_CHECK(backscatter_step_px >= 1 && backscatter_step_px <= 64, context,
-            ": backscatter_step_px must be 1..64");
+  UWS_CHECK(backscatter_step_px >= 0 && backscatter_step_px <= 64, context,
+            ": backscatter_step_px must be 0 (auto) .. 64");
   UWS_CHECK(backscatter_samples >= 1 && backscatter_samples <= 256, context,
             ": backscatter_samples must be 1..256");
   UWS_CHECK(std::isfinite(max_range_m) && max_range_m > 0, context, ": max_range_m must be > 0");
@@ -108,7 +108,7 @@ Renderer::Renderer(SimConfig config) : config_(std::move(config)) {
   const double n_water = cam.IsFlatPort() ? cam.port.n_water : 1.0;
   pixel_angle_rad_ = 1.0 / (cam.intrinsics[0] * n_water);
 
-  const int step = config_.render.backscatter_step_px;
+  const int step = BackscatterStep();
   coarse_cols_ = (width_ - 1 + step - 1) / step + 1;
   coarse_rows_ = (height_ - 1 + step - 1) / step + 1;
   coarse_rays_.assign(static_cast<size_t>(coarse_cols_) * coarse_rows_,
@@ -122,6 +122,11 @@ Renderer::Renderer(SimConfig config) : config_(std::move(config)) {
       }
     }
   }
+}
+
+int Renderer::BackscatterStep() const {
+  if (config_.render.backscatter_step_px > 0) return config_.render.backscatter_step_px;
+  return std::max(1, width_ / 80);
 }
 
 Renderer::Optics Renderer::MakeOptics(double wavelength_nm) const {
@@ -157,6 +162,7 @@ std::vector<Renderer::LaserFrame> Renderer::MakeLaserFrames(const FrameState& st
     frame.camera_from_laser =
         CameraFromLaser(i, state.laser_angles_rad.empty() ? 0.0 : state.laser_angles_rad[i]);
     frame.laser_from_camera = frame.camera_from_laser.Inverse();
+    frame.laser_R_camera = frame.laser_from_camera.RotationMatrix();
     const Eigen::Quaterniond& q = frame.camera_from_laser.rotation;
     frame.q_wxyz = {q.w(), q.x(), q.y(), q.z()};
     frame.p1 = projector.p1;
@@ -215,7 +221,8 @@ double Renderer::LaserRadiance(const LaserFrame& laser, const Rigid3d& world_fro
   const Eigen::Vector3d beam = laser.camera_from_laser.rotation * (p / range);
   const double cos_incidence = -beam.dot(normal_to_camera);
   if (cos_incidence <= 0) return 0.0;  // lit from the other side
-  if (config_.render.shadows &&
+  // Shadows of the core only: the halo is scattered light, not a ray.
+  if (part == SheetPart::kCore && config_.render.shadows &&
       config_.scene.Occluded(world_from_camera * laser.camera_from_laser.translation,
                              world_from_camera * point)) {
     return 0.0;
@@ -247,7 +254,8 @@ RenderedFrame Renderer::Render(const FrameState& state) const {
     for (int x = 0; x < width_; ++x) row[x] *= gain[x];
   }
   frame.range_m = buffers.range;
-  frame.image = Digitize(frame.electrons, config_.sensor, camera().bayer, state.noise_seed);
+  frame.image = Digitize(frame.electrons, config_.sensor, camera().bayer, state.noise_seed,
+                         config_.render.threads);
   return frame;
 }
 

@@ -26,8 +26,8 @@ namespace uwscan::sim {
 
 struct RenderOptions {
   int laser_supersample = 4;      // n x n sub-rays in pixels near a laser line
-  int backscatter_step_px = 4;    // grid step of the flood-light backscatter
-  int backscatter_samples = 16;   // samples along each camera ray
+  int backscatter_step_px = 0;    // grid step of the flood-light backscatter (0: width / 80)
+  int backscatter_samples = 12;   // samples along each camera ray
   double max_range_m = 30.0;      // open water beyond
   bool forward_scatter = true;    // E_f: blur growing with range and turbidity
   bool backscatter = true;        // E_b
@@ -120,6 +120,7 @@ class Renderer {
   void AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* buffers) const;
   void AddForwardScatter(Buffers* buffers) const;
   std::vector<LaserFrame> MakeLaserFrames(const FrameState& state) const;
+  int BackscatterStep() const;
 
   SimConfig config_;
   int width_ = 0, height_ = 0;

@@ -5,7 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "uwscan/sensor/line_projector.h"
+#include <optional>
+
 #include "uwscan/sim/renderer.h"
 #include "uwscan/sim/renderer_internal.h"
 
@@ -23,6 +24,37 @@ PathTransmission CameraPath(double attenuation, double forward, double range) {
   t.sharp = std::exp(-attenuation * range);
   if (forward < attenuation) t.blurred = std::max(0.0, std::exp(-forward * range) - t.sharp);
   return t;
+}
+
+// Smallest positive l with the ray a + l b (laser frame) on the cone
+// y z = p1 x^2 in front of the laser (the plane y = 0 for p1 = 0).
+std::optional<double> SheetCrossing(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double p1) {
+  if (p1 == 0.0) {
+    if (std::abs(b.y()) < 1e-15) return std::nullopt;
+    return -a.y() / b.y();
+  }
+  const double qa = b.y() * b.z() - p1 * b.x() * b.x();
+  const double qb = a.y() * b.z() + a.z() * b.y() - 2 * p1 * a.x() * b.x();
+  const double qc = a.y() * a.z() - p1 * a.x() * a.x();
+  double roots[2];
+  int count = 0;
+  if (std::abs(qa) < 1e-300) {
+    if (std::abs(qb) < 1e-300) return std::nullopt;
+    roots[count++] = -qc / qb;
+  } else {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc < 0) return std::nullopt;
+    const double q = qb >= 0 ? -0.5 * (qb + std::sqrt(disc)) : -0.5 * (qb - std::sqrt(disc));
+    roots[count++] = q / qa;
+    if (q != 0) roots[count++] = qc / q;
+  }
+  std::optional<double> best;
+  for (int i = 0; i < count; ++i) {
+    // The sheet branch: in front of the laser (z > 0); the cone's mirror
+    // branch has z < 0 for y z = p1 x^2 with the same sign of y.
+    if (roots[i] > 0 && a.z() + roots[i] * b.z() > 0 && (!best || roots[i] < *best)) best = roots[i];
+  }
+  return best;
 }
 
 }  // namespace
@@ -123,7 +155,7 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
             if (radiance > 0) add_light(radiance, laser.optics, range);
           }
         }
-        if (offset > 6 * sigma + 4 * footprint) continue;
+        if (offset > 6 * sigma + 2 * footprint) continue;
         const int n = options.laser_supersample;
         for (int j = 0; j < n; ++j) {
           for (int i = 0; i < n; ++i) {
@@ -153,25 +185,22 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
         const Optics& optics = laser.optics;
         const double b = optics.scattering;
         if (b <= 0 || source.power_w <= 0) continue;
-        Eigen::Vector3d crossing;
-        if (!LineProjectorModel::Triangulate(laser.q_wxyz.data(),
-                                             laser.camera_from_laser.translation.data(), laser.p1,
-                                             origin.data(), direction.data(), crossing.data())) {
-          continue;
-        }
-        const double s = (crossing - origin).dot(direction);
-        if (!(s > 0 && s < ray_length)) continue;
-        const Eigen::Vector3d p = laser.laser_from_camera * crossing;
+        // Ray in the laser frame: a + l b; crossing of the cone
+        // (a_y + l b_y)(a_z + l b_z) = p1 (a_x + l b_x)^2, eq. 4.30.
+        const Eigen::Vector3d a = laser.laser_R_camera * (origin - laser.camera_from_laser.translation);
+        const Eigen::Vector3d bl = laser.laser_R_camera * direction;
+        const auto l = SheetCrossing(a, bl, laser.p1);
+        if (!l || !(*l > 0 && *l < ray_length)) continue;
+        const double s = *l;
+        const Eigen::Vector3d p = a + s * bl;
         if (!(p.z() > 0) || std::abs(p.x() / p.z()) > laser.tan_half_fan) continue;
         const double laser_range = p.norm();
         const Eigen::Vector3d gradient(-2 * laser.p1 * p.x() / (p.z() * p.z()), 1 / p.z(),
                                        -p.y() / (p.z() * p.z()) + 2 * laser.p1 * p.x() * p.x() /
                                                                       (p.z() * p.z() * p.z()));
-        const Eigen::Vector3d direction_in_laser = laser.laser_from_camera.rotation * direction;
-        const double crossing_cos = std::abs(gradient.normalized().dot(direction_in_laser));
+        const double crossing_cos = std::abs(gradient.normalized().dot(bl));
         const double path_factor = 1.0 / std::max(crossing_cos, 0.05);
-        const Eigen::Vector3d propagation = laser.camera_from_laser.rotation * (p / laser_range);
-        const double phase = medium.Phase(-propagation.dot(direction));
+        const double phase = medium.Phase(-p.dot(bl) / laser_range);
         const double k = optics.forward;
         const double radiance = b * phase * source.power_w / (source.fan_angle_rad * laser_range) *
                                 path_factor * std::exp(-k * (laser_range + s));

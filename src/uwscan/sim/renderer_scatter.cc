@@ -14,6 +14,7 @@ void Renderer::AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* bu
   const Medium& medium = config_.medium;
   const RenderOptions& options = config_.render;
   const int samples = options.backscatter_samples;
+  const int step = BackscatterStep();
   cv::Mat coarse = cv::Mat::zeros(coarse_rows_, coarse_cols_, CV_32FC3);
   const Eigen::Matrix3d world_R_camera = world_from_camera.RotationMatrix();
 
@@ -54,7 +55,6 @@ void Renderer::AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* bu
     }
   });
 
-  const int step = options.backscatter_step_px;
   const float weight = static_cast<float>(buffers->weight);
   for (int y = 0; y < height_; ++y) {
     const int j0 = std::min(y / step, coarse_rows_ - 2 < 0 ? 0 : coarse_rows_ - 2);

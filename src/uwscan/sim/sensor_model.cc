@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "uwscan/sim/random.h"
+#include "uwscan/sim/parallel.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::sim {
@@ -53,7 +54,7 @@ int BayerChannel(const std::string& bayer, int x, int y) {
 }
 
 cv::Mat Digitize(const cv::Mat& electrons_rgb, const SensorOptions& options,
-                 const std::string& bayer, uint64_t seed) {
+                 const std::string& bayer, uint64_t seed, int threads) {
   UWS_CHECK(electrons_rgb.type() == CV_32FC3, "Digitize: expects CV_32FC3 electrons");
   const bool mosaic = options.output == OutputFormat::kBayer;
   UWS_CHECK(!mosaic || bayer.size() == 4, "Digitize: Bayer output needs a pattern (rggb, ...)");
@@ -76,7 +77,7 @@ cv::Mat Digitize(const cv::Mat& electrons_rgb, const SensorOptions& options,
     return std::min(code * scale_to_container, container_max);
   };
 
-  for (int y = 0; y < rows; ++y) {
+  ParallelRows(rows, threads, [&](int y) {
     Rng rng(StreamSeed(seed, 0x5E45, static_cast<uint64_t>(y)));
     const cv::Vec3f* in = electrons_rgb.ptr<cv::Vec3f>(y);
     for (int x = 0; x < cols; ++x) {
@@ -96,7 +97,7 @@ cv::Mat Digitize(const cv::Mat& electrons_rgb, const SensorOptions& options,
       if (wide) image.ptr<uint16_t>(y)[x] = static_cast<uint16_t>(value);
       else image.ptr<uint8_t>(y)[x] = static_cast<uint8_t>(value);
     }
-  }
+  });
   return image;
 }
 

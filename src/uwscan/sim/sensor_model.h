@@ -40,7 +40,7 @@ struct SensorOptions {
 // channels. Noise streams are seeded from (seed, row): the result does not
 // depend on threads.
 cv::Mat Digitize(const cv::Mat& electrons_rgb, const SensorOptions& options,
-                 const std::string& bayer, uint64_t seed);
+                 const std::string& bayer, uint64_t seed, int threads = 1);
 
 // Channel (0 = R, 1 = G, 2 = B) sampled at pixel (x, y) of a Bayer pattern.
 int BayerChannel(const std::string& bayer, int x, int y);

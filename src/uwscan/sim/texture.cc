@@ -106,20 +106,19 @@ Eigen::Vector3d Texture::Albedo(double s, double t, double footprint_m) const {
     }
     case TextureType::kNatural: {
       double variation = 0.0, total = 0.0;
+      const bool cached = octaves_.size() == static_cast<size_t>(octaves) && prepared_seed_ == seed &&
+                          prepared_scale_m_ == scale_m;
       for (int k = 0; k < octaves; ++k) {
         const double cells_per_footprint = footprint_m * std::ldexp(1.0, k) / scale_m;
         if (cells_per_footprint >= 2.0) {  // faded to its mean
           total += kOctaveAmplitude[k];
           continue;
         }
-        const Octave o = octaves_.size() == static_cast<size_t>(octaves) && prepared_seed_ == seed &&
-                                 prepared_scale_m_ == scale_m
-                             ? octaves_[k]
-                             : MakeOctave(k);
+        const Octave o = cached ? octaves_[k] : MakeOctave(k);
         const double u = (o.cos_angle * s - o.sin_angle * t) / o.cell_m + o.shift_u;
         const double v = (o.sin_angle * s + o.cos_angle * t) / o.cell_m + o.shift_v;
         const uint64_t octave_seed = o.seed;
-        variation += o.amplitude * FilteredCells(u, v, footprint_m / o.cell_m,
+        variation += o.amplitude * FilteredCells(u, v, cells_per_footprint,
                                                  [octave_seed](int64_t i, int64_t j) {
                                                    return CellValue(octave_seed, i, j);
                                                  });
