@@ -12,7 +12,7 @@ struct SimulateArgs {
   std::string scenario, out, turbidity, output;
   int frames = 0, width = 0, height = 0, bits = 0, threads = 2;
   uint64_t seed = 1;
-  double motion_amplitude = -1, laser_power = -1;
+  double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0, laser_tilt_deg = 5;
   bool quiet = false;
 };
 
@@ -30,6 +30,9 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   if (given("--motion-amplitude")) options.motion_amplitude = args.motion_amplitude;
   if (given("--laser-power")) options.laser_power_w = args.laser_power;
   if (given("--bits")) options.bits = args.bits;
+  if (given("--port-gap-mm")) options.port_gap_mm = args.port_gap_mm;
+  if (given("--port-tilt-deg")) options.port_tilt_deg = args.port_tilt_deg;
+  if (given("--laser-tilt-deg")) options.laser_tilt_deg = args.laser_tilt_deg;
   options.threads = args.threads;
   try {
     if (given("--output")) options.output = sim::OutputFormatFromName(args.output);
@@ -67,6 +70,13 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("--laser-power", args->laser_power, "laser power on the line (W)");
   cmd->add_option("--output", args->output, "bayer | rgb | mono (default bayer)");
   cmd->add_option("--bits", args->bits, "8 | 12 | 16 bit quantisation (default 8)");
+  cmd->add_option("--port-gap-mm", args->port_gap_mm, "aquarium: lens-to-window gap (mm)")
+      ->capture_default_str();
+  cmd->add_option("--port-tilt-deg", args->port_tilt_deg, "aquarium: window tilt (deg)")
+      ->capture_default_str();
+  cmd->add_option("--laser-tilt-deg", args->laser_tilt_deg,
+                  "laser-tilt: laser tilt behind the window (deg)")
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "render threads")->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "no progress bar or summary");
   cmd->callback([args, cmd] { RunSimulate(*args, *cmd); });

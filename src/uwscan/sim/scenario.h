@@ -33,6 +33,9 @@ struct ScenarioOptions {
   std::optional<OutputFormat> output;
   std::optional<int> bits;
   int threads = 2;
+  // aquarium (§6.1): gap between lens and window (1, 10, 20 mm in the
+  // thesis) and window tilt; laser-tilt (§6.2): laser tilt behind the window.
+  std::optional<double> port_gap_mm, port_tilt_deg, laser_tilt_deg;
 
   void Check() const;  // throws uwscan::Error naming the option
 };
@@ -55,6 +58,11 @@ struct Scenario {
   // sequence (zero for lasers without servo).
   double servo_start_rad = 0.0, servo_end_rad = 0.0;
   std::vector<CalibrationSet> calibration;
+  // Explicit per-frame poses (motion type kViews); frames = views.size().
+  std::vector<Rigid3d> views;
+  // laser-tilt: the tilt and how far the eq. 4.30 model is from the exactly
+  // refracted sheet (informational, written as a comment in scene.yaml).
+  double laser_tilt_rad = 0.0, laser_port_fit_rms_m = 0.0;
 
   double TimeOf(int frame) const { return frame / frame_rate_hz; }
   double ServoAngle(int frame) const;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/io/tum.h"
 #include "uwscan/sim/strict_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
@@ -55,6 +56,8 @@ std::string SceneToYaml(const Scenario& s) {
   out << "format: " << kFormat << "\n"
       << "# World frame: z up (the sea floor is z = 0 where there is one). Poses are\n"
       << "# a_from_b {q: [w, x, y, z], t: [x, y, z]} in metres; see docs/simulator.md.\n"
+      << (s.laser_tilt_rad != 0 ? fmt::format("# laser behind a port tilted by {} rad; eq. 4.30 model fitted to the exactly\n# refracted sheet with rms {} m (rig.yaml holds the fit)\n", s.laser_tilt_rad, s.laser_port_fit_rms_m) : std::string())
+      << (s.motion.type == MotionType::kViews ? "# motion 'views': the per-frame poses are those of groundtruth.tum\n" : "")
       << "scenario: " << s.name << "\n"
       << "seed: " << s.seed << "\n"
       << "sequence:\n"
@@ -289,7 +292,13 @@ Scenario ReadSceneYaml(const std::filesystem::path& path, const Rig& rig) {
 }
 
 Scenario LoadDatasetScenario(const std::filesystem::path& dataset) {
-  return ReadSceneYaml(dataset / "scene.yaml", ReadRigYaml(dataset / "rig.yaml"));
+  Scenario scenario = ReadSceneYaml(dataset / "scene.yaml", ReadRigYaml(dataset / "rig.yaml"));
+  if (scenario.motion.type == MotionType::kViews) {
+    for (const auto& pose : ReadTum(dataset / "groundtruth.tum")) scenario.views.push_back(pose.world_from_camera);
+    UWS_CHECK(static_cast<int>(scenario.views.size()) == scenario.frames, (dataset / "groundtruth.tum").string(),
+              ": ", scenario.views.size(), " poses but scene.yaml has ", scenario.frames, " frames");
+  }
+  return scenario;
 }
 
 }  // namespace uwscan::sim
