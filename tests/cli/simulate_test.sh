@@ -44,6 +44,16 @@ expect_status 0 "hull rgb turbid" "$uwscan" simulate hull --out "$work/hull" --f
 expect_status 0 "seabed numeric turbidity" "$uwscan" simulate seabed-transect --out "$work/sea" \
   --frames 2 --width 96 --height 72 --turbidity 0.5 --output mono --quiet
 
+expect_status 0 "aquarium" "$uwscan" simulate aquarium --out "$work/aq" --frames 1 --width 96 \
+  --height 72 --port-gap-mm 10 --port-tilt-deg 4 --quiet
+for f in calib/air/rig.yaml calib/air/frames/000000.png calib/water/groundtruth.tum frames.csv; do
+  [ -s "$work/aq/$f" ] || fail "aquarium: missing $f"
+done
+grep -q "model: pinhole" "$work/aq/calib/air/rig.yaml" || fail "aquarium: air rig is not pinhole"
+expect_status 0 "laser-tilt" "$uwscan" simulate laser-tilt --out "$work/lt" --frames 1 --width 96 \
+  --height 72 --laser-tilt-deg 8 --quiet
+[ -s "$work/lt/calib/laser/frames/000005.png" ] || fail "laser-tilt: calib/laser"
+
 # Usage errors: exit 2.
 expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"
 expect_status 2 "zero frames" "$uwscan" simulate tank-target --out "$work/e2" --frames 0
@@ -52,7 +62,8 @@ expect_status 2 "unknown turbidity" "$uwscan" simulate tank-target --out "$work/
 expect_status 2 "bad output" "$uwscan" simulate tank-target --out "$work/e5" --output jpeg
 expect_status 2 "width without height" "$uwscan" simulate tank-target --out "$work/e6" --width 100
 expect_status 2 "missing --out" "$uwscan" simulate tank-target
-for e in e1 e2 e3 e4 e5 e6; do [ ! -e "$work/$e" ] || fail "$e was created"; done
+expect_status 2 "laser tilt out of range" "$uwscan" simulate laser-tilt --out "$work/e7" --laser-tilt-deg 45
+for e in e1 e2 e3 e4 e5 e6 e7; do [ ! -e "$work/$e" ] || fail "$e was created"; done
 grep -q "unknown scenario 'no-such'" <("$uwscan" simulate no-such --out "$work/e1" 2>&1) ||
   fail "unknown scenario message"
 

@@ -56,10 +56,13 @@ std::string SceneToYaml(const Scenario& s) {
   out << "format: " << kFormat << "\n"
       << "# World frame: z up (the sea floor is z = 0 where there is one). Poses are\n"
       << "# a_from_b {q: [w, x, y, z], t: [x, y, z]} in metres; see docs/simulator.md.\n"
-      << (s.laser_tilt_rad != 0 ? fmt::format("# laser behind a port tilted by {} rad; eq. 4.30 model fitted to the exactly\n# refracted sheet with rms {} m (rig.yaml holds the fit)\n", s.laser_tilt_rad, s.laser_port_fit_rms_m) : std::string())
       << (s.motion.type == MotionType::kViews ? "# motion 'views': the per-frame poses are those of groundtruth.tum\n" : "")
       << "scenario: " << s.name << "\n"
       << "seed: " << s.seed << "\n"
+      << "# laser behind its own port tilted by tilt_rad (laser-tilt); rig.yaml holds the\n"
+      << "# eq. 4.30 model fitted to the exactly refracted sheet, fit_rms_m its distance\n"
+      << "laser_port: {tilt_rad: " << YamlNumber(s.laser_tilt_rad)
+      << ", fit_rms_m: " << YamlNumber(s.laser_port_fit_rms_m) << "}\n"
       << "sequence:\n"
       << "  frames: " << s.frames << "\n"
       << "  frame_rate_hz: " << YamlNumber(s.frame_rate_hz) << "\n"
@@ -155,6 +158,10 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
   Scenario s;
   s.name = top.String("scenario");
   s.seed = top.Unsigned("seed");
+  StrictMap laser_port = top.Child("laser_port");
+  s.laser_tilt_rad = laser_port.Number("tilt_rad");
+  s.laser_port_fit_rms_m = laser_port.Number("fit_rms_m");
+  laser_port.CheckNoUnknownKeys();
   StrictMap sequence = top.Child("sequence");
   s.frames = sequence.Integer("frames");
   s.frame_rate_hz = sequence.Number("frame_rate_hz");
