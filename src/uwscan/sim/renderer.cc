@@ -195,7 +195,7 @@ double Renderer::LaserRadiance(const LaserFrame& laser, const Rigid3d& world_fro
                                const Eigen::Vector3d& point, const Eigen::Vector3d& normal_to_camera,
                                const Eigen::Vector3d& albedo, SheetPart part) const {
   const LaserSource& source = config_.lasers[laser.source];
-  const Eigen::Vector3d p = laser.laser_from_camera * point;
+  const Eigen::Vector3d p = laser.laser_R_camera * (point - laser.camera_from_laser.translation);
   if (!(p.z() > 0)) return 0.0;
   const double x = p.x() / p.z();
   if (std::abs(x) > laser.tan_half_fan) return 0.0;
@@ -247,12 +247,15 @@ RenderedFrame Renderer::Render(const FrameState& state) const {
   if (config_.render.forward_scatter) AddForwardScatter(&buffers);
 
   RenderedFrame frame;
-  frame.electrons = buffers.sharp + buffers.blurred + buffers.back;
-  for (int y = 0; y < height_; ++y) {
-    cv::Vec3f* row = frame.electrons.ptr<cv::Vec3f>(y);
+  frame.electrons.create(height_, width_, CV_32FC3);
+  ParallelRows(height_, config_.render.threads, [&](int y) {
+    cv::Vec3f* out = frame.electrons.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* sharp = buffers.sharp.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* blurred = buffers.blurred.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* back = buffers.back.ptr<cv::Vec3f>(y);
     const float* gain = &pixel_gain_[static_cast<size_t>(y) * width_];
-    for (int x = 0; x < width_; ++x) row[x] *= gain[x];
-  }
+    for (int x = 0; x < width_; ++x) out[x] = (sharp[x] + blurred[x] + back[x]) * gain[x];
+  });
   frame.range_m = buffers.range;
   frame.image = Digitize(frame.electrons, config_.sensor, camera().bayer, state.noise_seed,
                          config_.render.threads);

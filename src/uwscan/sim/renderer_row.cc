@@ -65,6 +65,10 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
   const RenderOptions& options = config_.render;
   const Eigen::Matrix3d world_R_camera = world_from_camera.RotationMatrix();
   const Eigen::Vector3d up_in_camera = world_R_camera.transpose() * Eigen::Vector3d::UnitZ();
+  std::vector<Eigen::Vector3d> flood_positions_world;
+  for (const FloodLight& flood : config_.floods) {
+    flood_positions_world.push_back(world_from_camera * flood.camera_from_light.translation);
+  }
   const bool ambient = config_.ambient.irradiance_rgb.maxCoeff() > 0;
   const int grid_cols = width_ + 2;
   const float weight = static_cast<float>(buffers->weight);
@@ -78,7 +82,7 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
     const PixelRay& ray = rays_[static_cast<size_t>(y + 1) * grid_cols + x + 1];
     if (ray.direction.squaredNorm() == 0) continue;
     const Eigen::Vector3d origin = ray.origin.cast<double>(), direction = ray.direction.cast<double>();
-    const Eigen::Vector3d origin_world = world_from_camera * origin;
+    const Eigen::Vector3d origin_world = world_R_camera * origin + world_from_camera.translation;
     const Eigen::Vector3d direction_world = world_R_camera * direction;
     const auto hit = config_.scene.Intersect(origin_world, direction_world, 1e-9, options.max_range_m);
     Eigen::Vector3d sharp = Eigen::Vector3d::Zero(), blurred = Eigen::Vector3d::Zero(),
@@ -115,7 +119,7 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
         const double cos_incidence = -normal.dot(unit);
         if (intensity <= 0 || cos_incidence <= 0) continue;
         if (options.shadows &&
-            config_.scene.Occluded(world_from_camera * flood.camera_from_light.translation,
+            config_.scene.Occluded(flood_positions_world[f],
                                    hit->point_world, hit->surface)) {
           continue;
         }
@@ -137,7 +141,7 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
       for (const LaserFrame& laser : lasers) {
         // Cheap test on the centre ray, then n x n sub-rays across the pixel
         // footprint so the rendered line's sub-pixel peak is unbiased.
-        const Eigen::Vector3d p = laser.laser_from_camera * point;
+        const Eigen::Vector3d p = laser.laser_R_camera * (point - laser.camera_from_laser.translation);
         if (!(p.z() > 0)) continue;
         const LaserSource& source = config_.lasers[laser.source];
         const double xl = p.x() / p.z();
@@ -162,7 +166,8 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
             Eigen::Vector3d sub_origin, sub_direction;
             RayAt(x + (i + 0.5) / n - 0.5, y + (j + 0.5) / n - 0.5, &sub_origin, &sub_direction);
             const auto sub_hit = config_.scene.Intersect(
-                world_from_camera * sub_origin, world_R_camera * sub_direction, 1e-9, options.max_range_m);
+                world_R_camera * sub_origin + world_from_camera.translation, world_R_camera * sub_direction,
+                1e-9, options.max_range_m);
             if (!sub_hit) continue;
             const Eigen::Vector3d sub_point = sub_origin + sub_hit->lambda * sub_direction;
             Eigen::Vector3d sub_normal = world_R_camera.transpose() * sub_hit->normal_world;

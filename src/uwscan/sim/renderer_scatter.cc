@@ -126,7 +126,7 @@ void Renderer::AddForwardScatter(Buffers* buffers) const {
   const int levels = 1 + static_cast<int>(std::ceil(std::log2(std::max(sigma_max / sigma_min, 1.0))));
   std::vector<cv::Mat> blurred(levels);
   for (int l = 0; l < levels; ++l) blurred[l] = BlurAtSigma(buffers->blurred, sigma_min * std::ldexp(1.0, l));
-  for (int y = 0; y < height_; ++y) {
+  ParallelRows(height_, config_.render.threads, [&](int y) {
     const float* s = sigma.ptr<float>(y);
     cv::Vec3f* out = buffers->sharp.ptr<cv::Vec3f>(y);
     for (int x = 0; x < width_; ++x) {
@@ -137,7 +137,7 @@ void Renderer::AddForwardScatter(Buffers* buffers) const {
       const float w = static_cast<float>(level - l0);
       out[x] += (1 - w) * blurred[l0].at<cv::Vec3f>(y, x) + w * blurred[l1].at<cv::Vec3f>(y, x);
     }
-  }
+  });
   buffers->blurred.setTo(0);
 }
 

@@ -146,7 +146,8 @@ std::optional<Hit> Scene::Intersect(const Eigen::Vector3d& origin_world,
   Eigen::Vector3d best_local = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < surfaces.size(); ++i) {
     const Surface& surface = surfaces[i];
-    const Eigen::Matrix3d surface_R_world = surface.SurfaceRWorld();
+    Eigen::Matrix3d stale;
+    const Eigen::Matrix3d& surface_R_world = surface.CachedRotation(&stale);
     const Eigen::Vector3d o = surface_R_world * (origin_world - surface.world_from_surface.translation);
     const Eigen::Vector3d d = surface_R_world * direction_world;
     const auto lambda = surface.IntersectLocal(o, d, min_lambda, hi);
@@ -176,7 +177,8 @@ bool Scene::Occluded(const Eigen::Vector3d& from_world, const Eigen::Vector3d& t
   for (size_t i = 0; i < surfaces.size(); ++i) {
     const Surface& surface = surfaces[i];
     if (static_cast<int>(i) == skip_surface && surface.type == SurfaceType::kPlane) continue;
-    const Eigen::Matrix3d surface_R_world = surface.SurfaceRWorld();
+    Eigen::Matrix3d stale;
+    const Eigen::Matrix3d& surface_R_world = surface.CachedRotation(&stale);
     const Eigen::Vector3d o = surface_R_world * (from_world - surface.world_from_surface.translation);
     if (surface.IntersectLocal(o, surface_R_world * direction, epsilon, length - epsilon)) return true;
   }
@@ -190,8 +192,14 @@ void Surface::Prepare() {
 }
 
 Eigen::Matrix3d Surface::SurfaceRWorld() const {
+  Eigen::Matrix3d stale;
+  return CachedRotation(&stale);
+}
+
+const Eigen::Matrix3d& Surface::CachedRotation(Eigen::Matrix3d* stale) const {
   if (cached_rotation_.coeffs() == world_from_surface.rotation.coeffs()) return surface_R_world_;
-  return world_from_surface.RotationMatrix().transpose();
+  *stale = world_from_surface.RotationMatrix().transpose();
+  return *stale;
 }
 
 void Scene::Prepare() {

@@ -51,6 +51,8 @@ struct Surface {
   // detected and bypassed, only costing speed).
   void Prepare();
   Eigen::Matrix3d SurfaceRWorld() const;
+  // The cached matrix, or `stale` filled in when the pose changed since.
+  const Eigen::Matrix3d& CachedRotation(Eigen::Matrix3d* stale) const;
 
  private:
   Eigen::Matrix3d surface_R_world_ = Eigen::Matrix3d::Identity();

@@ -67,13 +67,14 @@ cv::Mat Digitize(const cv::Mat& electrons_rgb, const SensorOptions& options,
   const double scale_to_container = wide ? (65535.0 + 1) / (max_code + 1) : 1.0;
   const double container_max = wide ? 65535.0 : 255.0;
 
+  // Shot noise (variance = signal, Gaussian approximation of Poisson) and
+  // read noise are independent Gaussians: one draw with the summed variance.
+  const double read_variance = options.read_noise_e * options.read_noise_e;
   auto sample = [&](double electrons, Rng& rng) {
     double e = std::max(0.0, electrons);
-    if (options.noise) {
-      e += std::sqrt(e) * rng.Normal() + options.read_noise_e * rng.Normal();
-    }
+    if (options.noise) e += std::sqrt(e + read_variance) * rng.Normal();
     e = std::min(e, options.full_well_e);
-    double code = std::clamp(std::round(e * gain), 0.0, max_code);
+    const double code = std::clamp(std::floor(e * gain + 0.5), 0.0, max_code);
     return std::min(code * scale_to_container, container_max);
   };
 
