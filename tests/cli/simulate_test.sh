@@ -41,6 +41,9 @@ done
 # Other scenarios and options.
 expect_status 0 "hull rgb turbid" "$uwscan" simulate hull --out "$work/hull" --frames 2 --width 96 \
   --height 72 --turbidity turbid --output rgb --bits 16 --laser-power 0.1 --motion-amplitude 0.05 --quiet
+expect_status 0 "snow and motion blur" "$uwscan" simulate tank-target --out "$work/snow" --frames 2 \
+  --width 96 --height 72 --marine-snow 200 --motion-blur 3 --quiet
+grep -q "per_m3: 200" "$work/snow/scene.yaml" || fail "snow not in scene.yaml"
 expect_status 0 "seabed numeric turbidity" "$uwscan" simulate seabed-transect --out "$work/sea" \
   --frames 2 --width 96 --height 72 --turbidity 0.5 --output mono --quiet
 
@@ -62,8 +65,9 @@ expect_status 2 "unknown turbidity" "$uwscan" simulate tank-target --out "$work/
 expect_status 2 "bad output" "$uwscan" simulate tank-target --out "$work/e5" --output jpeg
 expect_status 2 "width without height" "$uwscan" simulate tank-target --out "$work/e6" --width 100
 expect_status 2 "missing --out" "$uwscan" simulate tank-target
+expect_status 2 "negative snow" "$uwscan" simulate tank-target --out "$work/e8" --marine-snow=-1
 expect_status 2 "laser tilt out of range" "$uwscan" simulate laser-tilt --out "$work/e7" --laser-tilt-deg 45
-for e in e1 e2 e3 e4 e5 e6 e7; do [ ! -e "$work/$e" ] || fail "$e was created"; done
+for e in e1 e2 e3 e4 e5 e6 e7 e8; do [ ! -e "$work/$e" ] || fail "$e was created"; done
 grep -q "unknown scenario 'no-such'" <("$uwscan" simulate no-such --out "$work/e1" 2>&1) ||
   fail "unknown scenario message"
 

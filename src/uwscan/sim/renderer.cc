@@ -66,6 +66,7 @@ void SimConfig::Check() const {
   }
   for (size_t i = 0; i < floods.size(); ++i) floods[i].Check("floods[" + std::to_string(i) + "]");
   ambient.Check("ambient");
+  snow.Check("snow");
   sensor.Check("sensor");
   render.Check("render");
   if (sensor.output == OutputFormat::kBayer) {
@@ -256,6 +257,11 @@ RenderedFrame Renderer::Render(const FrameState& state) const {
     const float* gain = &pixel_gain_[static_cast<size_t>(y) * width_];
     for (int x = 0; x < width_; ++x) out[x] = (sharp[x] + blurred[x] + back[x]) * gain[x];
   });
+  if (config_.snow.per_m3 > 0) {
+    for (const Rigid3d& pose : poses) {
+      AddMarineSnow(pose, lasers, buffers.range, buffers.weight, &frame.electrons);
+    }
+  }
   frame.range_m = buffers.range;
   frame.image = Digitize(frame.electrons, config_.sensor, camera().bayer, state.noise_seed,
                          config_.render.threads);

@@ -37,6 +37,16 @@ struct RenderOptions {
   void Check(const std::string& context) const;
 };
 
+// Marine snow: world-fixed particles (0.3–1.5 mm, albedo 0.8) lit by the
+// floods and lasers, drawn as defocused blobs in front of the scene.
+struct MarineSnow {
+  double per_m3 = 0.0;        // particle density
+  double max_range_m = 3.0;   // drawn up to this distance from the camera
+  double focus_m = 2.0;       // focus distance (in water) for the defocus blur
+  uint64_t seed = 1;
+  void Check(const std::string& context) const;
+};
+
 // Everything that defines the images (camera 0 of the rig renders).
 struct SimConfig {
   Rig rig;
@@ -47,6 +57,7 @@ struct SimConfig {
   Ambient ambient;
   SensorOptions sensor;
   RenderOptions render;
+  MarineSnow snow;
 
   void Check() const;
 };
@@ -119,6 +130,9 @@ class Renderer {
                        const Eigen::Vector3d& albedo, SheetPart part) const;
   void AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* buffers) const;
   void AddForwardScatter(Buffers* buffers) const;
+  // Adds marine snow seen from one pose to `electrons` (after the pixel gain).
+  void AddMarineSnow(const Rigid3d& world_from_camera, const std::vector<LaserFrame>& lasers,
+                     const cv::Mat& range_m, double weight, cv::Mat* electrons) const;
   std::vector<LaserFrame> MakeLaserFrames(const FrameState& state) const;
   int BackscatterStep() const;
 

@@ -396,6 +396,10 @@ void ScenarioOptions::Check() const {
               "--laser-tilt-deg must be in [-20, 20] (got ", *laser_tilt_deg, ")");
   }
   UWS_CHECK(threads >= 1 && threads <= 256, "--threads must be 1..256");
+  UWS_CHECK(motion_blur_samples >= 1 && motion_blur_samples <= 64, "--motion-blur must be 1..64 (got ",
+            motion_blur_samples, ")");
+  UWS_CHECK(std::isfinite(marine_snow_per_m3) && marine_snow_per_m3 >= 0 && marine_snow_per_m3 <= 10000,
+            "--marine-snow must be in [0, 10000] particles per m^3 (got ", marine_snow_per_m3, ")");
 }
 
 double Scenario::ServoAngle(int frame) const {
@@ -412,6 +416,14 @@ FrameState Scenario::FrameAt(const Trajectory& trajectory, int frame) const {
     if (config.lasers[i].servo) state.laser_angles_rad[i] = ServoAngle(frame);
   }
   state.noise_seed = StreamSeed(seed, 0xF4A3E, static_cast<uint64_t>(frame));
+  if (motion_blur_samples > 1 && views.empty()) {
+    // Exposure centred on the frame time.
+    const double exposure = config.sensor.exposure_s;
+    for (int k = 0; k < motion_blur_samples; ++k) {
+      const double t = TimeOf(frame) + exposure * ((k + 0.5) / motion_blur_samples - 0.5);
+      state.exposure_poses.push_back(trajectory.WorldFromCamera(t));
+    }
+  }
   return state;
 }
 
@@ -454,6 +466,9 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
     throw UsageError("unknown scenario '" + name + "' (one of: " + list + ")");
   }
   scenario.seed = options.seed;
+  scenario.motion_blur_samples = options.motion_blur_samples;
+  scenario.config.snow.per_m3 = options.marine_snow_per_m3;
+  scenario.config.snow.seed = StreamSeed(options.seed, 0x5A0);
   scenario.config.Check();
   for (const auto& set : scenario.calibration) set.config.Check();
   return scenario;

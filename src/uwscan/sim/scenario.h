@@ -36,6 +36,8 @@ struct ScenarioOptions {
   // aquarium (§6.1): gap between lens and window (1, 10, 20 mm in the
   // thesis) and window tilt; laser-tilt (§6.2): laser tilt behind the window.
   std::optional<double> port_gap_mm, port_tilt_deg, laser_tilt_deg;
+  int motion_blur_samples = 1;   // poses averaged over the exposure
+  double marine_snow_per_m3 = 0;  // particles per cubic metre (0 = none)
 
   void Check() const;  // throws uwscan::Error naming the option
 };
@@ -54,6 +56,8 @@ struct Scenario {
   MotionOptions motion;
   int frames = 10;
   double frame_rate_hz = 10.0;
+  // Motion blur: poses sampled over the exposure (1 = none).
+  int motion_blur_samples = 1;
   // Servo sweep of every laser source, linear from start to end over the
   // sequence (zero for lasers without servo).
   double servo_start_rad = 0.0, servo_end_rad = 0.0;

@@ -148,6 +148,55 @@ TEST(MediumTest, PresetsArePetzoldsWatersAt530) {
   EXPECT_THROW(Medium::Parse("nan"), Error);
 }
 
+TEST(ScenarioTest, MarineSnowAddsLocalisedParticlesDeterministically) {
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.output = OutputFormat::kRgb;
+  Scenario clean = MakeScenario("tank-target", options);
+  clean.config.sensor.noise = false;
+  options.marine_snow_per_m3 = 300;
+  Scenario snowy = MakeScenario("tank-target", options);
+  snowy.config.sensor.noise = false;
+  const Trajectory trajectory(clean.motion);
+  const FrameState state = clean.FrameAt(trajectory, 5);
+  const cv::Mat a = Renderer(clean.config).Render(state).electrons;
+  const cv::Mat b = Renderer(snowy.config).Render(state).electrons;
+  cv::Mat difference = b - a, changed;
+  double lowest = 0;
+  cv::minMaxLoc(difference.reshape(1), &lowest);
+  EXPECT_GE(lowest, 0.0);  // only adds light
+  cv::compare(difference.reshape(1), 1.0, changed, cv::CMP_GT);
+  const double share = cv::countNonZero(changed) / static_cast<double>(changed.total());
+  EXPECT_GT(share, 0.001);
+  EXPECT_LT(share, 0.2);
+  EXPECT_EQ(cv::norm(b, Renderer(snowy.config).Render(state).electrons, cv::NORM_INF), 0.0);
+}
+
+TEST(ScenarioTest, MotionBlurSmoothsTheImage) {
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.output = OutputFormat::kRgb;
+  Scenario scenario = MakeScenario("tank-target", options);
+  scenario.config.sensor.noise = false;
+  const Renderer renderer(scenario.config);
+  FrameState sharp = scenario.FrameAt(Trajectory(scenario.motion), 0);
+  FrameState blurred = sharp;
+  for (int k = 0; k < 8; ++k) {
+    Rigid3d pose = sharp.world_from_camera;
+    pose.translation.x() += 0.04 * (k / 7.0 - 0.5);  // 4 cm during the exposure
+    blurred.exposure_poses.push_back(pose);
+  }
+  auto gradient_energy = [&](const FrameState& state) {
+    cv::Mat gray, dx;
+    cv::extractChannel(renderer.Render(state).electrons, gray, 0);
+    cv::Sobel(gray, dx, CV_32F, 1, 0);
+    return cv::norm(dx, cv::NORM_L2);
+  };
+  EXPECT_LT(gradient_energy(blurred), 0.8 * gradient_energy(sharp));
+}
+
 TEST(ScenarioTest, BadOptionsAreRejected) {
   ScenarioOptions options;
   options.frames = 0;

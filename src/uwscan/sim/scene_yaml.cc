@@ -66,6 +66,7 @@ std::string SceneToYaml(const Scenario& s) {
       << "sequence:\n"
       << "  frames: " << s.frames << "\n"
       << "  frame_rate_hz: " << YamlNumber(s.frame_rate_hz) << "\n"
+      << "  motion_blur_samples: " << s.motion_blur_samples << "\n"
       << "surfaces:\n";
   for (const Surface& surface : c.scene.surfaces) {
     out << "  - name: " << surface.name << "\n"
@@ -108,6 +109,8 @@ std::string SceneToYaml(const Scenario& s) {
         << "    exponent: " << YamlNumber(f.exponent) << "\n";
   }
   out << "ambient: {irradiance_rgb: " << YamlVector(c.ambient.irradiance_rgb) << "}\n";
+  out << "snow: {per_m3: " << YamlNumber(c.snow.per_m3) << ", max_range_m: " << YamlNumber(c.snow.max_range_m)
+      << ", focus_m: " << YamlNumber(c.snow.focus_m) << ", seed: " << c.snow.seed << "}\n";
   const SensorOptions& n = c.sensor;
   out << "sensor:\n"
       << "  exposure_s: " << YamlNumber(n.exposure_s) << "\n"
@@ -165,8 +168,10 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
   StrictMap sequence = top.Child("sequence");
   s.frames = sequence.Integer("frames");
   s.frame_rate_hz = sequence.Number("frame_rate_hz");
+  s.motion_blur_samples = sequence.Integer("motion_blur_samples");
   sequence.CheckNoUnknownKeys();
-  UWS_CHECK(s.frames >= 1 && s.frame_rate_hz > 0, source, ": sequence needs frames >= 1 and frame_rate_hz > 0");
+  UWS_CHECK(s.frames >= 1 && s.frame_rate_hz > 0 && s.motion_blur_samples >= 1, source,
+            ": sequence needs frames >= 1, frame_rate_hz > 0 and motion_blur_samples >= 1");
 
   const YAML::Node surfaces = top.Get("surfaces");
   UWS_CHECK(surfaces.IsSequence(), source, ": 'surfaces' must be a list");
@@ -242,6 +247,13 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
   StrictMap ambient = top.Child("ambient");
   s.config.ambient.irradiance_rgb = ambient.Vector3("irradiance_rgb");
   ambient.CheckNoUnknownKeys();
+
+  StrictMap snow = top.Child("snow");
+  s.config.snow.per_m3 = snow.Number("per_m3");
+  s.config.snow.max_range_m = snow.Number("max_range_m");
+  s.config.snow.focus_m = snow.Number("focus_m");
+  s.config.snow.seed = snow.Unsigned("seed");
+  snow.CheckNoUnknownKeys();
 
   StrictMap sensor = top.Child("sensor");
   SensorOptions& n = s.config.sensor;
