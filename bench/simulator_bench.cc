@@ -27,7 +27,8 @@ Scenario TankTarget(int width, int threads = 2) {
 // range(1) = threads; with one thread the CPU time is the whole work,
 // independent of other load on the machine.
 void BM_RenderFrame(benchmark::State& state) {
-  const Scenario scenario = TankTarget(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const Scenario scenario =
+      TankTarget(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   const Renderer renderer(scenario.config);
   const Trajectory trajectory(scenario.motion);
   int frame = 0;
@@ -58,7 +59,12 @@ void BM_FrameWithTruthAndPng(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_FrameWithTruthAndPng)->Arg(320)->Arg(640)->Arg(1280)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FrameWithTruthAndPng)
+    ->Arg(320)
+    ->Arg(640)
+    ->Arg(1280)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_RendererSetup(benchmark::State& state) {
   const Scenario scenario = TankTarget(static_cast<int>(state.range(0)));

@@ -13,7 +13,8 @@ struct SimulateArgs {
   int frames = 0, width = 0, height = 0, bits = 0, threads = 2, motion_blur = 1;
   double marine_snow = 0;
   uint64_t seed = 1;
-  double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0, laser_tilt_deg = 5;
+  double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0,
+         laser_tilt_deg = 5;
   bool quiet = false;
 };
 
@@ -22,7 +23,8 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   const auto given = [&app](const char* name) { return app.count(name) > 0; };
   if (given("--frames")) options.frames = args.frames;
   if (given("--width") || given("--height")) {
-    if (!given("--width") || !given("--height")) throw UsageError("--width and --height go together");
+    if (!given("--width") || !given("--height"))
+      throw UsageError("--width and --height go together");
     options.width = args.width;
     options.height = args.height;
   }
@@ -49,7 +51,8 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   const sim::SimulateResult result = sim::WriteDataset(scenario, args.out, !args.quiet);
   if (!args.quiet) {
     std::cerr << "uwscan: wrote " << result.frames << " frames (" << result.laser_points
-              << " laser ground-truth points) to " << args.out << " in " << result.seconds << " s\n";
+              << " laser ground-truth points) to " << args.out << " in " << result.seconds
+              << " s\n";
   }
 }
 
@@ -62,11 +65,13 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("scenario", args->scenario,
                   "tank-target | hull | seabed-transect | aquarium | laser-tilt")
       ->required();
-  cmd->add_option("--out", args->out, "output dataset folder (must not exist or be empty)")->required();
+  cmd->add_option("--out", args->out, "output dataset folder (must not exist or be empty)")
+      ->required();
   cmd->add_option("--frames", args->frames, "number of frames (default per scenario)");
   cmd->add_option("--width", args->width, "image width in pixels (intrinsics scale along)");
   cmd->add_option("--height", args->height, "image height in pixels");
-  cmd->add_option("--seed", args->seed, "random seed (motion, texture, noise)")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "random seed (motion, texture, noise)")
+      ->capture_default_str();
   cmd->add_option("--turbidity", args->turbidity,
                   "air | pure | clear | coastal | turbid, or c_p(530 nm) in 1/m");
   cmd->add_option("--motion-amplitude", args->motion_amplitude, "rms platform motion per axis (m)");

@@ -20,7 +20,8 @@ struct SheetPointCost {
 
   template <typename T>
   bool operator()(const T* rotation, const T* translation, const T* p1, T* residual) const {
-    const T shifted[3] = {T(point_.x()), T(point_.y()) - translation[0], T(point_.z()) - translation[1]};
+    const T shifted[3] = {T(point_.x()), T(point_.y()) - translation[0],
+                          T(point_.z()) - translation[1]};
     const T inverse[3] = {-rotation[0], -rotation[1], -rotation[2]};
     T p[3];
     ceres::AngleAxisRotatePoint(inverse, shifted, p);
@@ -72,8 +73,9 @@ LaserPortFit FitLaserBehindPort(const FlatPort& port, double fan_angle_rad, doub
   LaserPortFit fit;
   const Eigen::Vector3d axis_angle(rotation[0], rotation[1], rotation[2]);
   const double angle = axis_angle.norm();
-  const Eigen::Quaterniond q = angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis_angle / angle))
-                                         : Eigen::Quaterniond::Identity();
+  const Eigen::Quaterniond q =
+      angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis_angle / angle))
+                : Eigen::Quaterniond::Identity();
   fit.inner_from_model = Rigid3d(q, Eigen::Vector3d(0, translation[0], translation[1]));
   fit.p1 = p1;
   double sum = 0;

@@ -14,7 +14,7 @@ namespace uwscan::sim {
 struct LaserPortFit {
   Rigid3d inner_from_model;  // model laser frame in the bare laser's frame
   double p1 = 0.0;
-  double rms_m = 0.0;        // rms distance of the refracted sheet points from the model
+  double rms_m = 0.0;  // rms distance of the refracted sheet points from the model
   double max_m = 0.0;
 };
 

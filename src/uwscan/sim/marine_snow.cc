@@ -21,8 +21,9 @@ void MarineSnow::Check(const std::string& context) const {
   UWS_CHECK(std::isfinite(focus_m) && focus_m > 0, context, ": focus_m must be > 0");
 }
 
-void Renderer::AddMarineSnow(const Rigid3d& world_from_camera, const std::vector<LaserFrame>& lasers,
-                             const cv::Mat& range_m, double weight, cv::Mat* electrons) const {
+void Renderer::AddMarineSnow(const Rigid3d& world_from_camera,
+                             const std::vector<LaserFrame>& lasers, const cv::Mat& range_m,
+                             double weight, cv::Mat* electrons) const {
   const MarineSnow& snow = config_.snow;
   const Camera& cam = camera();
   const SensorOptions& sensor = config_.sensor;
@@ -41,26 +42,30 @@ void Renderer::AddMarineSnow(const Rigid3d& world_from_camera, const std::vector
     for (int j = -reach; j <= reach; ++j) {
       for (int k = -reach; k <= reach; ++k) {
         const Eigen::Vector3i cell = base + Eigen::Vector3i(i, j, k);
-        Rng rng(StreamSeed(snow.seed, static_cast<uint64_t>(cell.x()) * 73856093ULL ^
-                                          static_cast<uint64_t>(cell.y()) * 19349663ULL,
+        Rng rng(StreamSeed(snow.seed,
+                           static_cast<uint64_t>(cell.x()) * 73856093ULL ^
+                               static_cast<uint64_t>(cell.y()) * 19349663ULL,
                            static_cast<uint64_t>(cell.z())));
         // Poisson count by inversion (small means).
         int count = 0;
-        for (double p = std::exp(-mean_per_cell), u = rng.Uniform(), sum = p; u > sum && count < 1000;) {
+        for (double p = std::exp(-mean_per_cell), u = rng.Uniform(), sum = p;
+             u > sum && count < 1000;) {
           ++count;
           p *= mean_per_cell / count;
           sum += p;
         }
         for (int n = 0; n < count; ++n) {
-          const Eigen::Vector3d world = (cell.cast<double>() + Eigen::Vector3d(rng.Uniform(), rng.Uniform(),
-                                                                                 rng.Uniform())) * kCell;
+          const Eigen::Vector3d world =
+              (cell.cast<double>() + Eigen::Vector3d(rng.Uniform(), rng.Uniform(), rng.Uniform())) *
+              kCell;
           const double radius = 0.0003 * std::pow(5.0, rng.Uniform());
           const Eigen::Vector3d point = camera_from_world * world;
           const double distance = point.norm();
           if (point.z() < 0.05 || distance > snow.max_range_m) continue;
           const auto pixel = cam.Project(point, ProjectionMethod::kExact);
           if (!pixel || !cam.InImage(*pixel)) continue;
-          const int px = static_cast<int>(std::lround(pixel->x())), py = static_cast<int>(std::lround(pixel->y()));
+          const int px = static_cast<int>(std::lround(pixel->x())),
+                    py = static_cast<int>(std::lround(pixel->y()));
           const float surface = range_m.at<float>(py, px);
           if (surface > 0 && distance > surface) continue;  // behind the scene
           // Irradiance from the lights.
@@ -69,19 +74,23 @@ void Renderer::AddMarineSnow(const Rigid3d& world_from_camera, const std::vector
             const double intensity = kAlbedo * irradiance * radius * radius;  // W/sr
             const double power = intensity * aperture_area / (distance * distance) *
                                  std::exp(-optics.attenuation * distance);
-            const double photons = power * sensor.exposure_s * optics.wavelength_nm * 1e-9 / 1.98644586e-25;
+            const double photons =
+                power * sensor.exposure_s * optics.wavelength_nm * 1e-9 / 1.98644586e-25;
             signal += photons * sensor.quantum_efficiency * optics.response;
           };
           for (size_t f = 0; f < config_.floods.size(); ++f) {
             const FloodLight& flood = config_.floods[f];
             const Eigen::Vector3d to = point - flood.camera_from_light.translation;
             const double r = to.norm();
-            const double cos_axis = (flood.camera_from_light.rotation * Eigen::Vector3d::UnitZ()).dot(to / r);
-            add(flood.Intensity(cos_axis) / (r * r) * std::exp(-flood_optics_[f].forward * r), flood_optics_[f]);
+            const double cos_axis =
+                (flood.camera_from_light.rotation * Eigen::Vector3d::UnitZ()).dot(to / r);
+            add(flood.Intensity(cos_axis) / (r * r) * std::exp(-flood_optics_[f].forward * r),
+                flood_optics_[f]);
           }
           for (const LaserFrame& laser : lasers) {
             const LaserSource& source = config_.lasers[laser.source];
-            const Eigen::Vector3d p = laser.laser_R_camera * (point - laser.camera_from_laser.translation);
+            const Eigen::Vector3d p =
+                laser.laser_R_camera * (point - laser.camera_from_laser.translation);
             if (!(p.z() > 0) || std::abs(p.x() / p.z()) > laser.tan_half_fan) continue;
             const double x = p.x() / p.z(), range = p.norm();
             const double offset = (p.y() / p.z() - laser.p1 * x * x) * p.z();
@@ -91,7 +100,8 @@ void Renderer::AddMarineSnow(const Rigid3d& world_from_camera, const std::vector
                 laser.optics);
           }
           // Fresnel transmission and cos^4 (not the radiance n^2 law: a point source).
-          const double gain = pixel_gain_[static_cast<size_t>(py) * width_ + px] * n_water * n_water;
+          const double gain =
+              pixel_gain_[static_cast<size_t>(py) * width_ + px] * n_water * n_water;
           signal *= gain * weight;
           // Defocus: blur circle f D |1/d - 1/d_focus| (apparent distances d/n).
           const double blur_px = cam.intrinsics[0] * aperture_m *

@@ -10,10 +10,14 @@ namespace uwscan::sim {
 
 const char* MotionTypeName(MotionType type) {
   switch (type) {
-    case MotionType::kStatic: return "static";
-    case MotionType::kHover: return "hover";
-    case MotionType::kTransect: return "transect";
-    case MotionType::kViews: return "views";
+    case MotionType::kStatic:
+      return "static";
+    case MotionType::kHover:
+      return "hover";
+    case MotionType::kTransect:
+      return "transect";
+    case MotionType::kViews:
+      return "views";
   }
   return "static";
 }

@@ -70,7 +70,8 @@ void SimConfig::Check() const {
   sensor.Check("sensor");
   render.Check("render");
   if (sensor.output == OutputFormat::kBayer) {
-    UWS_CHECK(rig.cameras.front().bayer != "none", "sensor: Bayer output needs a camera with a "
+    UWS_CHECK(rig.cameras.front().bayer != "none",
+              "sensor: Bayer output needs a camera with a "
               "bayer pattern in the rig");
   }
 }
@@ -91,14 +92,15 @@ Renderer::Renderer(SimConfig config) : config_(std::move(config)) {
       const auto ray = cam.BackProject(pixel);
       if (!ray) continue;
       rays_[static_cast<size_t>(gy) * grid_cols + gx] = {ray->origin.cast<float>(),
-                                                          ray->direction.cast<float>()};
+                                                         ray->direction.cast<float>()};
       if (gx >= 1 && gy >= 1 && gx <= width_ && gy <= height_) {
         pixel_gain_[static_cast<size_t>(gy - 1) * width_ + gx - 1] =
             static_cast<float>(PixelGain(cam, pixel, ray->direction));
       }
     }
   });
-  for (const FloodLight& flood : config_.floods) flood_optics_.push_back(MakeOptics(flood.wavelength_nm));
+  for (const FloodLight& flood : config_.floods)
+    flood_optics_.push_back(MakeOptics(flood.wavelength_nm));
   for (const LaserSource& laser : config_.lasers) {
     laser_optics_.push_back(MakeOptics(config_.rig.lasers[laser.rig_laser].wavelength_nm));
   }
@@ -135,8 +137,9 @@ Renderer::Optics Renderer::MakeOptics(double wavelength_nm) const {
   Optics optics;
   optics.wavelength_nm = wavelength_nm;
   optics.attenuation = medium.Attenuation(wavelength_nm);
-  optics.forward = config_.render.forward_scatter ? medium.ForwardTransmissionCoefficient(wavelength_nm)
-                                                  : optics.attenuation;
+  optics.forward = config_.render.forward_scatter
+                       ? medium.ForwardTransmissionCoefficient(wavelength_nm)
+                       : optics.attenuation;
   optics.scattering = medium.Scattering(wavelength_nm);
   optics.response = ChannelResponse(wavelength_nm);
   optics.electrons_per_radiance = config_.sensor.ElectronsPerRadiance(wavelength_nm);
@@ -151,9 +154,10 @@ Rigid3d Renderer::CameraFromLaser(size_t source, double angle_rad) const {
 }
 
 std::vector<Renderer::LaserFrame> Renderer::MakeLaserFrames(const FrameState& state) const {
-  UWS_CHECK(state.laser_angles_rad.empty() || state.laser_angles_rad.size() == config_.lasers.size(),
-            "FrameState: laser_angles_rad must be empty or have one angle per laser (got ",
-            state.laser_angles_rad.size(), " for ", config_.lasers.size(), ")");
+  UWS_CHECK(
+      state.laser_angles_rad.empty() || state.laser_angles_rad.size() == config_.lasers.size(),
+      "FrameState: laser_angles_rad must be empty or have one angle per laser (got ",
+      state.laser_angles_rad.size(), " for ", config_.lasers.size(), ")");
   std::vector<LaserFrame> frames;
   for (size_t i = 0; i < config_.lasers.size(); ++i) {
     const LaserSource& source = config_.lasers[i];
@@ -174,11 +178,13 @@ std::vector<Renderer::LaserFrame> Renderer::MakeLaserFrames(const FrameState& st
   return frames;
 }
 
-void Renderer::RayAt(double u, double v, Eigen::Vector3d* origin, Eigen::Vector3d* direction) const {
+void Renderer::RayAt(double u, double v, Eigen::Vector3d* origin,
+                     Eigen::Vector3d* direction) const {
   const int grid_cols = width_ + 2;
   const double gx = std::clamp(u + 1.0, 0.0, static_cast<double>(width_ + 1) - 1e-9);
   const double gy = std::clamp(v + 1.0, 0.0, static_cast<double>(height_ + 1) - 1e-9);
-  const int x0 = std::min(static_cast<int>(gx), width_), y0 = std::min(static_cast<int>(gy), height_);
+  const int x0 = std::min(static_cast<int>(gx), width_),
+            y0 = std::min(static_cast<int>(gy), height_);
   const double fx = gx - x0, fy = gy - y0;
   const PixelRay* r = &rays_[static_cast<size_t>(y0) * grid_cols + x0];
   const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
@@ -193,7 +199,8 @@ void Renderer::RayAt(double u, double v, Eigen::Vector3d* origin, Eigen::Vector3
 }
 
 double Renderer::LaserRadiance(const LaserFrame& laser, const Rigid3d& world_from_camera,
-                               const Eigen::Vector3d& point, const Eigen::Vector3d& normal_to_camera,
+                               const Eigen::Vector3d& point,
+                               const Eigen::Vector3d& normal_to_camera,
                                const Eigen::Vector3d& albedo, SheetPart part) const {
   const LaserSource& source = config_.lasers[laser.source];
   const Eigen::Vector3d p = laser.laser_R_camera * (point - laser.camera_from_laser.translation);

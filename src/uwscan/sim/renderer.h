@@ -25,12 +25,12 @@
 namespace uwscan::sim {
 
 struct RenderOptions {
-  int laser_supersample = 4;      // n x n sub-rays in pixels near a laser line
-  int backscatter_step_px = 0;    // grid step of the flood-light backscatter (0: width / 80)
-  int backscatter_samples = 12;   // samples along each camera ray
-  double max_range_m = 30.0;      // open water beyond
-  bool forward_scatter = true;    // E_f: blur growing with range and turbidity
-  bool backscatter = true;        // E_b
+  int laser_supersample = 4;     // n x n sub-rays in pixels near a laser line
+  int backscatter_step_px = 0;   // grid step of the flood-light backscatter (0: width / 80)
+  int backscatter_samples = 12;  // samples along each camera ray
+  double max_range_m = 30.0;     // open water beyond
+  bool forward_scatter = true;   // E_f: blur growing with range and turbidity
+  bool backscatter = true;       // E_b
   bool shadows = true;
   int threads = 2;
 
@@ -40,9 +40,9 @@ struct RenderOptions {
 // Marine snow: world-fixed particles (0.3–1.5 mm, albedo 0.8) lit by the
 // floods and lasers, drawn as defocused blobs in front of the scene.
 struct MarineSnow {
-  double per_m3 = 0.0;        // particle density
-  double max_range_m = 3.0;   // drawn up to this distance from the camera
-  double focus_m = 2.0;       // focus distance (in water) for the defocus blur
+  double per_m3 = 0.0;       // particle density
+  double max_range_m = 3.0;  // drawn up to this distance from the camera
+  double focus_m = 2.0;      // focus distance (in water) for the defocus blur
   uint64_t seed = 1;
   void Check(const std::string& context) const;
 };
@@ -138,9 +138,9 @@ class Renderer {
 
   SimConfig config_;
   int width_ = 0, height_ = 0;
-  std::vector<PixelRay> rays_;      // (width + 2) x (height + 2), pixel centres -1 .. width
-  std::vector<float> pixel_gain_;   // Fresnel transmission x cos^4 x (n_air / n_water)^2
-  double pixel_angle_rad_ = 0.0;    // angular size of a pixel in water
+  std::vector<PixelRay> rays_;     // (width + 2) x (height + 2), pixel centres -1 .. width
+  std::vector<float> pixel_gain_;  // Fresnel transmission x cos^4 x (n_air / n_water)^2
+  double pixel_angle_rad_ = 0.0;   // angular size of a pixel in water
   int coarse_cols_ = 0, coarse_rows_ = 0;
   std::vector<PixelRay> coarse_rays_;
   std::vector<Optics> flood_optics_, laser_optics_;

@@ -23,10 +23,10 @@ struct Renderer::LaserFrame {
 
 // Per-frame accumulators (electrons before the pixel gain, R G B).
 struct Renderer::Buffers {
-  cv::Mat sharp;    // CV_32FC3: direct light, unscattered on the way to the camera
-  cv::Mat blurred;  // CV_32FC3: direct light scattered into the small-angle lobe
-  cv::Mat back;     // CV_32FC3: backscatter / veiling light
-  cv::Mat range;    // CV_32F
+  cv::Mat sharp;        // CV_32FC3: direct light, unscattered on the way to the camera
+  cv::Mat blurred;      // CV_32FC3: direct light scattered into the small-angle lobe
+  cv::Mat back;         // CV_32FC3: backscatter / veiling light
+  cv::Mat range;        // CV_32F
   double weight = 1.0;  // 1 / number of exposure poses
 };
 

@@ -4,7 +4,6 @@
 // laser light sheet's single-scattering backscatter (E_b).
 #include <algorithm>
 #include <cmath>
-
 #include <optional>
 
 #include "uwscan/sim/renderer.h"
@@ -52,7 +51,8 @@ std::optional<double> SheetCrossing(const Eigen::Vector3d& a, const Eigen::Vecto
   for (int i = 0; i < count; ++i) {
     // The sheet branch: in front of the laser (z > 0); the cone's mirror
     // branch has z < 0 for y z = p1 x^2 with the same sign of y.
-    if (roots[i] > 0 && a.z() + roots[i] * b.z() > 0 && (!best || roots[i] < *best)) best = roots[i];
+    if (roots[i] > 0 && a.z() + roots[i] * b.z() > 0 && (!best || roots[i] < *best))
+      best = roots[i];
   }
   return best;
 }
@@ -77,14 +77,15 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
   cv::Vec3f* back_row = buffers->back.ptr<cv::Vec3f>(y);
   float* range_row = buffers->range.ptr<float>(y);
 
-
   for (int x = 0; x < width_; ++x) {
     const PixelRay& ray = rays_[static_cast<size_t>(y + 1) * grid_cols + x + 1];
     if (ray.direction.squaredNorm() == 0) continue;
-    const Eigen::Vector3d origin = ray.origin.cast<double>(), direction = ray.direction.cast<double>();
+    const Eigen::Vector3d origin = ray.origin.cast<double>(),
+                          direction = ray.direction.cast<double>();
     const Eigen::Vector3d origin_world = world_R_camera * origin + world_from_camera.translation;
     const Eigen::Vector3d direction_world = world_R_camera * direction;
-    const auto hit = config_.scene.Intersect(origin_world, direction_world, 1e-9, options.max_range_m);
+    const auto hit =
+        config_.scene.Intersect(origin_world, direction_world, 1e-9, options.max_range_m);
     Eigen::Vector3d sharp = Eigen::Vector3d::Zero(), blurred = Eigen::Vector3d::Zero(),
                     back = Eigen::Vector3d::Zero();
     const double ray_length = hit ? hit->lambda : options.max_range_m;
@@ -105,8 +106,8 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
       const double cos_view = -normal.dot(direction);
       const double footprint = range * pixel_angle_rad_ / std::max(cos_view, 0.1);
       const Surface& surface = config_.scene.surfaces[hit->surface];
-      const Eigen::Vector3d albedo =
-          surface.texture.Albedo(hit->texture_coordinates.x(), hit->texture_coordinates.y(), footprint);
+      const Eigen::Vector3d albedo = surface.texture.Albedo(
+          hit->texture_coordinates.x(), hit->texture_coordinates.y(), footprint);
 
       for (size_t f = 0; f < config_.floods.size(); ++f) {
         const FloodLight& flood = config_.floods[f];
@@ -114,17 +115,16 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
         const Eigen::Vector3d to_point = point - flood.camera_from_light.translation;
         const double distance = to_point.norm();
         const Eigen::Vector3d unit = to_point / distance;
-        const double intensity =
-            flood.Intensity((flood.camera_from_light.rotation * Eigen::Vector3d::UnitZ()).dot(unit));
+        const double intensity = flood.Intensity(
+            (flood.camera_from_light.rotation * Eigen::Vector3d::UnitZ()).dot(unit));
         const double cos_incidence = -normal.dot(unit);
         if (intensity <= 0 || cos_incidence <= 0) continue;
         if (options.shadows &&
-            config_.scene.Occluded(flood_positions_world[f],
-                                   hit->point_world, hit->surface)) {
+            config_.scene.Occluded(flood_positions_world[f], hit->point_world, hit->surface)) {
           continue;
         }
-        const double irradiance =
-            intensity * cos_incidence / (distance * distance) * std::exp(-optics.forward * distance);
+        const double irradiance = intensity * cos_incidence / (distance * distance) *
+                                  std::exp(-optics.forward * distance);
         const double radiance = InterpolateRgb(albedo, flood.wavelength_nm) / M_PI * irradiance;
         add_light(radiance, optics, range);
       }
@@ -141,7 +141,8 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
       for (const LaserFrame& laser : lasers) {
         // Cheap test on the centre ray, then n x n sub-rays across the pixel
         // footprint so the rendered line's sub-pixel peak is unbiased.
-        const Eigen::Vector3d p = laser.laser_R_camera * (point - laser.camera_from_laser.translation);
+        const Eigen::Vector3d p =
+            laser.laser_R_camera * (point - laser.camera_from_laser.translation);
         if (!(p.z() > 0)) continue;
         const LaserSource& source = config_.lasers[laser.source];
         const double xl = p.x() / p.z();
@@ -152,10 +153,11 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
           // The wide halo is smooth: one sample at the pixel centre.
           const double spread = medium.forward_angle_rad * laser_range;
           const double b = laser.optics.scattering;
-          const double halo_sigma = std::sqrt(sigma * sigma + spread * spread * (1 + b * laser_range) / 3);
+          const double halo_sigma =
+              std::sqrt(sigma * sigma + spread * spread * (1 + b * laser_range) / 3);
           if (offset < 6 * halo_sigma) {
-            const double radiance = LaserRadiance(laser, world_from_camera, point, normal, albedo,
-                                                  SheetPart::kHalo);
+            const double radiance =
+                LaserRadiance(laser, world_from_camera, point, normal, albedo, SheetPart::kHalo);
             if (radiance > 0) add_light(radiance, laser.optics, range);
           }
         }
@@ -165,15 +167,17 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
           for (int i = 0; i < n; ++i) {
             Eigen::Vector3d sub_origin, sub_direction;
             RayAt(x + (i + 0.5) / n - 0.5, y + (j + 0.5) / n - 0.5, &sub_origin, &sub_direction);
-            const auto sub_hit = config_.scene.Intersect(
-                world_R_camera * sub_origin + world_from_camera.translation, world_R_camera * sub_direction,
-                1e-9, options.max_range_m);
+            const auto sub_hit =
+                config_.scene.Intersect(world_R_camera * sub_origin + world_from_camera.translation,
+                                        world_R_camera * sub_direction, 1e-9, options.max_range_m);
             if (!sub_hit) continue;
             const Eigen::Vector3d sub_point = sub_origin + sub_hit->lambda * sub_direction;
             Eigen::Vector3d sub_normal = world_R_camera.transpose() * sub_hit->normal_world;
             if (sub_normal.dot(sub_direction) > 0) sub_normal = -sub_normal;
-            const Eigen::Vector3d sub_albedo = config_.scene.surfaces[sub_hit->surface].texture.Albedo(
-                sub_hit->texture_coordinates.x(), sub_hit->texture_coordinates.y(), footprint / n);
+            const Eigen::Vector3d sub_albedo =
+                config_.scene.surfaces[sub_hit->surface].texture.Albedo(
+                    sub_hit->texture_coordinates.x(), sub_hit->texture_coordinates.y(),
+                    footprint / n);
             const double radiance = LaserRadiance(laser, world_from_camera, sub_point, sub_normal,
                                                   sub_albedo, SheetPart::kCore);
             if (radiance > 0) add_light(radiance / (n * n), laser.optics, sub_hit->lambda);
@@ -192,7 +196,8 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
         if (b <= 0 || source.power_w <= 0) continue;
         // Ray in the laser frame: a + l b; crossing of the cone
         // (a_y + l b_y)(a_z + l b_z) = p1 (a_x + l b_x)^2, eq. 4.30.
-        const Eigen::Vector3d a = laser.laser_R_camera * (origin - laser.camera_from_laser.translation);
+        const Eigen::Vector3d a =
+            laser.laser_R_camera * (origin - laser.camera_from_laser.translation);
         const Eigen::Vector3d bl = laser.laser_R_camera * direction;
         const auto l = SheetCrossing(a, bl, laser.p1);
         if (!l || !(*l > 0 && *l < ray_length)) continue;
@@ -200,9 +205,9 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
         const Eigen::Vector3d p = a + s * bl;
         if (!(p.z() > 0) || std::abs(p.x() / p.z()) > laser.tan_half_fan) continue;
         const double laser_range = p.norm();
-        const Eigen::Vector3d gradient(-2 * laser.p1 * p.x() / (p.z() * p.z()), 1 / p.z(),
-                                       -p.y() / (p.z() * p.z()) + 2 * laser.p1 * p.x() * p.x() /
-                                                                      (p.z() * p.z() * p.z()));
+        const Eigen::Vector3d gradient(
+            -2 * laser.p1 * p.x() / (p.z() * p.z()), 1 / p.z(),
+            -p.y() / (p.z() * p.z()) + 2 * laser.p1 * p.x() * p.x() / (p.z() * p.z() * p.z()));
         const double crossing_cos = std::abs(gradient.normalized().dot(bl));
         const double path_factor = 1.0 / std::max(crossing_cos, 0.05);
         const double phase = medium.Phase(-p.dot(bl) / laser_range);
@@ -216,8 +221,8 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
         for (int k = 0; k < 3; ++k) {
           const Optics& optics = channel_optics_[k];
           if (optics.attenuation <= 0) continue;
-          const double veil =
-              optics.scattering / optics.attenuation * config_.ambient.irradiance_rgb[k] / (2 * M_PI);
+          const double veil = optics.scattering / optics.attenuation *
+                              config_.ambient.irradiance_rgb[k] / (2 * M_PI);
           back[k] += veil * (1 - std::exp(-optics.attenuation * ray_length)) *
                      optics.electrons_per_radiance;
         }

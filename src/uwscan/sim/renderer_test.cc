@@ -52,7 +52,8 @@ TEST(RendererTest, LaserTruthProjectsExactlyAndLiesOnSheetAndSurface) {
       EXPECT_LT((*pixel - point.pixel).norm(), 0.01);
       EXPECT_NEAR(*turned.SheetResidual(point.point_in_camera), 0.0, 1e-12);
       const Eigen::Vector3d point_in_world = state.world_from_camera * point.point_in_camera;
-      EXPECT_NEAR(plane.ImplicitResidual(plane.world_from_surface.Inverse() * point_in_world), 0.0, 1e-9);
+      EXPECT_NEAR(plane.ImplicitResidual(plane.world_from_surface.Inverse() * point_in_world), 0.0,
+                  1e-9);
     }
   }
 }
@@ -154,7 +155,8 @@ LineStats MeasureLine(const std::string& water) {
     auto green = [&](int x) { return frame.electrons.at<cv::Vec3f>(row, x)[1]; };
     const double background = 0.5 * (green(centre - 60) + green(centre + 60));
     double peak = 0;
-    for (int x = centre - 2; x <= centre + 2; ++x) peak = std::max<double>(peak, green(x) - background);
+    for (int x = centre - 2; x <= centre + 2; ++x)
+      peak = std::max<double>(peak, green(x) - background);
     int above = 0;
     for (int x = centre - 50; x <= centre + 50; ++x) above += (green(x) - background) >= 0.5 * peak;
     stats.peak += peak;

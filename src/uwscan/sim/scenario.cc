@@ -19,7 +19,8 @@ Eigen::Quaterniond FromRotationVector(const Eigen::Vector3d& rotation_vector) {
 }
 
 // Rotation whose columns are the given axes (right-handed).
-Eigen::Quaterniond FromAxes(const Eigen::Vector3d& x, const Eigen::Vector3d& y, const Eigen::Vector3d& z) {
+Eigen::Quaterniond FromAxes(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+                            const Eigen::Vector3d& z) {
   Eigen::Matrix3d m;
   m << x, y, z;
   return Eigen::Quaterniond(m);
@@ -109,7 +110,8 @@ Scenario TankTarget(const ScenarioOptions& options) {
   AddThesisScanner(options, width, height, &s.config);
   s.config.scene.surfaces.push_back(Floor(options.seed, 40.0));
   Surface board = Checkerboard("checkerboard", 14, 10, 0.03);
-  board.world_from_surface = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.25, 0.0, 0.005));
+  board.world_from_surface =
+      Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.25, 0.0, 0.005));
   s.config.scene.surfaces.push_back(board);
   s.config.medium = Medium::Parse(options.turbidity.value_or("clear"));
   s.motion.type = MotionType::kHover;
@@ -136,10 +138,11 @@ Scenario Hull(const ScenarioOptions& options) {
   Surface hull;
   hull.name = "hull";
   hull.type = SurfaceType::kHull;
-  hull.size_x = 4.0;  // along the arc (world z)
-  hull.size_y = 8.0;  // along the ship (world x)
+  hull.size_x = 4.0;       // along the arc (world z)
+  hull.size_y = 8.0;       // along the ship (world x)
   hull.curvature = -0.25;  // convex towards the camera
-  hull.world_from_surface = Rigid3d(FromAxes({0, 0, -1}, {1, 0, 0}, {0, -1, 0}), Eigen::Vector3d(0, 0.2, 0));
+  hull.world_from_surface =
+      Rigid3d(FromAxes({0, 0, -1}, {1, 0, 0}, {0, -1, 0}), Eigen::Vector3d(0, 0.2, 0));
   hull.texture.type = TextureType::kNatural;
   hull.texture.albedo = {0.35, 0.33, 0.3};  // paint with fouling
   hull.texture.contrast = 0.5;
@@ -151,7 +154,8 @@ Scenario Hull(const ScenarioOptions& options) {
   shaft.type = SurfaceType::kCylinder;
   shaft.radius = 0.12;
   shaft.length = 4.0;
-  shaft.world_from_surface = Rigid3d(FromAxes({0, 1, 0}, {0, 0, 1}, {1, 0, 0}), Eigen::Vector3d(0, -0.5, -0.35));
+  shaft.world_from_surface =
+      Rigid3d(FromAxes({0, 1, 0}, {0, 0, 1}, {1, 0, 0}), Eigen::Vector3d(0, -0.5, -0.35));
   shaft.texture.type = TextureType::kNatural;
   shaft.texture.albedo = {0.5, 0.45, 0.4};
   shaft.texture.contrast = 0.4;
@@ -161,7 +165,8 @@ Scenario Hull(const ScenarioOptions& options) {
   s.config.scene.surfaces = {hull, shaft};
   s.config.medium = Medium::Parse(options.turbidity.value_or("coastal"));
   s.motion.type = MotionType::kHover;
-  s.motion.world_from_camera_start = Rigid3d(FromAxes({1, 0, 0}, {0, 0, -1}, {0, 1, 0}), Eigen::Vector3d(0, -1.8, 0));
+  s.motion.world_from_camera_start =
+      Rigid3d(FromAxes({1, 0, 0}, {0, 0, -1}, {0, 1, 0}), Eigen::Vector3d(0, -1.8, 0));
   s.motion.amplitude_m = options.motion_amplitude.value_or(0.03);
   s.motion.amplitude_rad = s.motion.amplitude_m * 0.5;
   s.motion.bandwidth_hz = 1.0;
@@ -186,7 +191,8 @@ Scenario SeabedTransect(const ScenarioOptions& options) {
   pipe.radius = 0.25;
   pipe.length = 40.0;
   // Along world x, half buried, beside the track.
-  pipe.world_from_surface = Rigid3d(FromAxes({0, 1, 0}, {0, 0, 1}, {1, 0, 0}), Eigen::Vector3d(10.0, -0.5, 0.05));
+  pipe.world_from_surface =
+      Rigid3d(FromAxes({0, 1, 0}, {0, 0, 1}, {1, 0, 0}), Eigen::Vector3d(10.0, -0.5, 0.05));
   pipe.texture.type = TextureType::kNatural;
   pipe.texture.albedo = {0.3, 0.35, 0.3};
   pipe.texture.contrast = 0.5;
@@ -207,7 +213,6 @@ Scenario SeabedTransect(const ScenarioOptions& options) {
   return s;
 }
 
-
 // The camera behind the aquarium window of §6.1: the thesis camera with the
 // window as its flat port, `gap_mm` between lens and glass (+ 4 mm from the
 // focal point to the lens front, as estimated in §6.1), window tilted about
@@ -226,10 +231,11 @@ Camera AquariumCamera(int width, int height, double gap_mm, double tilt_deg) {
 // `max_angle` of the board normal (world z), random roll.
 Rigid3d RandomView(Rng& rng, double min_distance, double max_distance, double max_angle,
                    const Eigen::Vector3d& centre) {
-  const Eigen::Vector3d target = centre + Eigen::Vector3d(rng.Uniform(-0.02, 0.02), rng.Uniform(-0.02, 0.02), 0);
+  const Eigen::Vector3d target =
+      centre + Eigen::Vector3d(rng.Uniform(-0.02, 0.02), rng.Uniform(-0.02, 0.02), 0);
   const double polar = max_angle * std::sqrt(rng.Uniform()), azimuth = rng.Uniform(0, 2 * M_PI);
-  const Eigen::Vector3d from_target(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth),
-                                    std::cos(polar));
+  const Eigen::Vector3d from_target(std::sin(polar) * std::cos(azimuth),
+                                    std::sin(polar) * std::sin(azimuth), std::cos(polar));
   const Eigen::Vector3d position = target + rng.Uniform(min_distance, max_distance) * from_target;
   const Eigen::Vector3d z = (target - position).normalized();
   Eigen::Vector3d x = Eigen::Vector3d::UnitX() - z.dot(Eigen::Vector3d::UnitX()) * z;
@@ -237,11 +243,12 @@ Rigid3d RandomView(Rng& rng, double min_distance, double max_distance, double ma
   const Eigen::Vector3d y = z.cross(x);
   const Eigen::Quaterniond look = FromAxes(x, y, z);
   const double roll = rng.Uniform(-0.25, 0.25);
-  return Rigid3d(look * Eigen::Quaterniond(Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ())), position);
+  return Rigid3d(look * Eigen::Quaterniond(Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ())),
+                 position);
 }
 
-SimConfig CalibrationConfig(const Camera& camera, const ScenarioOptions& options, const Medium& medium,
-                            double ambient) {
+SimConfig CalibrationConfig(const Camera& camera, const ScenarioOptions& options,
+                            const Medium& medium, double ambient) {
   SimConfig config;
   config.rig.cameras = {camera};
   config.medium = medium;
@@ -274,7 +281,8 @@ Scenario Aquarium(const ScenarioOptions& options) {
   s.frame_rate_hz = 1.0;
   Rng rng(StreamSeed(options.seed, 0xA0A));
   // Working range of the aquarium: up to 0.4 m (§6.1).
-  for (int i = 0; i < s.frames; ++i) s.views.push_back(RandomView(rng, 0.25, 0.4, 0.5, Eigen::Vector3d::Zero()));
+  for (int i = 0; i < s.frames; ++i)
+    s.views.push_back(RandomView(rng, 0.25, 0.4, 0.5, Eigen::Vector3d::Zero()));
   for (const char* name : {"air", "water"}) {
     CalibrationSet set;
     set.name = name;
@@ -284,7 +292,8 @@ Scenario Aquarium(const ScenarioOptions& options) {
     set.config.scene.surfaces = {board};
     for (int i = 0; i < s.frames; ++i) {
       FrameState view;
-      view.world_from_camera = RandomView(rng, air ? 0.35 : 0.25, air ? 0.6 : 0.4, 0.5, Eigen::Vector3d::Zero());
+      view.world_from_camera =
+          RandomView(rng, air ? 0.35 : 0.25, air ? 0.6 : 0.4, 0.5, Eigen::Vector3d::Zero());
       view.noise_seed = StreamSeed(options.seed, air ? 0xA1 : 0xA2, static_cast<uint64_t>(i));
       set.views.push_back(view);
     }
@@ -298,13 +307,14 @@ Scenario LaserTilt(const ScenarioOptions& options) {
   s.name = "laser-tilt";
   const int width = options.width.value_or(1280), height = options.height.value_or(960);
   const Camera camera = AquariumCamera(width, height, 1.0, 0.0);
-  s.config = CalibrationConfig(camera, options, Medium::Parse(options.turbidity.value_or("pure")), 0.02);
+  s.config =
+      CalibrationConfig(camera, options, Medium::Parse(options.turbidity.value_or("pure")), 0.02);
   // The bare laser 0.1 m beside the camera behind the same window, its line
   // along the camera y axis, turned by the tilt about that axis (§6.2).
   const double tilt = options.laser_tilt_deg.value_or(5.0) * kDeg;
-  const Rigid3d camera_from_inner(
-      FromAxes({0, 1, 0}, {-std::cos(tilt), 0, -std::sin(tilt)}, {-std::sin(tilt), 0, std::cos(tilt)}),
-      Eigen::Vector3d(0.1, 0, 0));
+  const Rigid3d camera_from_inner(FromAxes({0, 1, 0}, {-std::cos(tilt), 0, -std::sin(tilt)},
+                                           {-std::sin(tilt), 0, std::cos(tilt)}),
+                                  Eigen::Vector3d(0.1, 0, 0));
   FlatPort laser_port;
   laser_port.normal = camera_from_inner.rotation.conjugate() * Eigen::Vector3d::UnitZ();
   laser_port.d_air = 0.01;
@@ -338,12 +348,14 @@ Scenario LaserTilt(const ScenarioOptions& options) {
   auto view = [&](double distance) {
     const Eigen::Vector3d tilt_vector(rng.Uniform(-0.1, 0.1), rng.Uniform(-0.1, 0.1), 0);
     const Rigid3d down = LookingDown(Eigen::Vector3d(0.05, 0, distance));
-    return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(tilt_vector.norm(), tilt_vector.normalized())) *
-                       down.rotation,
-                   down.translation);
+    return Rigid3d(
+        Eigen::Quaterniond(Eigen::AngleAxisd(tilt_vector.norm(), tilt_vector.normalized())) *
+            down.rotation,
+        down.translation);
   };
   // Frames: the target receding from 0.28 to 0.48 m; calib/laser: two distances.
-  for (int i = 0; i < s.frames; ++i) s.views.push_back(view(0.28 + 0.2 * i / std::max(1, s.frames - 1)));
+  for (int i = 0; i < s.frames; ++i)
+    s.views.push_back(view(0.28 + 0.2 * i / std::max(1, s.frames - 1)));
   CalibrationSet set;
   set.name = "laser";
   set.config = s.config;
@@ -361,13 +373,14 @@ Scenario LaserTilt(const ScenarioOptions& options) {
 }  // namespace
 
 const std::vector<std::string>& ScenarioNames() {
-  static const std::vector<std::string> names = {"tank-target", "hull", "seabed-transect", "aquarium",
-                                                 "laser-tilt"};
+  static const std::vector<std::string> names = {"tank-target", "hull", "seabed-transect",
+                                                 "aquarium", "laser-tilt"};
   return names;
 }
 
 void ScenarioOptions::Check() const {
-  if (frames) UWS_CHECK(*frames >= 1 && *frames <= 1000000, "--frames must be >= 1 (got ", *frames, ")");
+  if (frames)
+    UWS_CHECK(*frames >= 1 && *frames <= 1000000, "--frames must be >= 1 (got ", *frames, ")");
   if (width || height) {
     UWS_CHECK(width && height, "--width and --height must be given together");
     UWS_CHECK(*width >= 16 && *height >= 16 && *width <= 16384 && *height <= 16384,
@@ -396,10 +409,11 @@ void ScenarioOptions::Check() const {
               "--laser-tilt-deg must be in [-20, 20] (got ", *laser_tilt_deg, ")");
   }
   UWS_CHECK(threads >= 1 && threads <= 256, "--threads must be 1..256");
-  UWS_CHECK(motion_blur_samples >= 1 && motion_blur_samples <= 64, "--motion-blur must be 1..64 (got ",
-            motion_blur_samples, ")");
-  UWS_CHECK(std::isfinite(marine_snow_per_m3) && marine_snow_per_m3 >= 0 && marine_snow_per_m3 <= 10000,
-            "--marine-snow must be in [0, 10000] particles per m^3 (got ", marine_snow_per_m3, ")");
+  UWS_CHECK(motion_blur_samples >= 1 && motion_blur_samples <= 64,
+            "--motion-blur must be 1..64 (got ", motion_blur_samples, ")");
+  UWS_CHECK(
+      std::isfinite(marine_snow_per_m3) && marine_snow_per_m3 >= 0 && marine_snow_per_m3 <= 10000,
+      "--marine-snow must be in [0, 10000] particles per m^3 (got ", marine_snow_per_m3, ")");
 }
 
 double Scenario::ServoAngle(int frame) const {

@@ -46,7 +46,8 @@ TEST(ScenarioTest, AquariumCheckerboardsAreDetectedWhereTheirRigProjectsThem) {
             const Eigen::Vector3d local((i - 0.5 * board.squares_x) * board.scale_m,
                                         (j - 0.5 * board.squares_y) * board.scale_m, 0);
             const auto pixel = camera.Project(camera_from_world * local);
-            if (pixel) best = std::min(best, std::hypot(pixel->x() - corner.x, pixel->y() - corner.y));
+            if (pixel)
+              best = std::min(best, std::hypot(pixel->x() - corner.x, pixel->y() - corner.y));
           }
         }
         worst = std::max(worst, best);
@@ -83,7 +84,8 @@ TEST(ScenarioTest, TiltedLaserPortBendsTheSheetMoreWithTilt) {
   options.height = 120;
   options.laser_tilt_deg = 5;
   const Scenario scenario = MakeScenario("laser-tilt", options);
-  EXPECT_NEAR(std::abs(scenario.config.rig.lasers[0].p1), std::abs(five.p1), 1e-9);  // sign: axis convention
+  EXPECT_NEAR(std::abs(scenario.config.rig.lasers[0].p1), std::abs(five.p1),
+              1e-9);  // sign: axis convention
   ASSERT_EQ(scenario.calibration.size(), 1u);
   EXPECT_EQ(scenario.calibration[0].name, "laser");
   const Renderer renderer(scenario.calibration[0].config);
@@ -121,10 +123,11 @@ TEST(ScenarioTest, SceneYamlIsStrict) {
   };
   std::string unknown = text;
   unknown.replace(unknown.find("  phase_g:"), 0, "  colour: blue\n");
-  EXPECT_NE(error_of(unknown).find("unknown key 'medium.colour'"), std::string::npos) << error_of(unknown);
+  EXPECT_NE(error_of(unknown).find("unknown key 'medium.colour'"), std::string::npos)
+      << error_of(unknown);
   std::string missing = text;
-  missing.erase(missing.find("  phase_g:"), missing.find('\n', missing.find("  phase_g:")) -
-                                                missing.find("  phase_g:") + 1);
+  missing.erase(missing.find("  phase_g:"),
+                missing.find('\n', missing.find("  phase_g:")) - missing.find("  phase_g:") + 1);
   EXPECT_NE(error_of(missing).find("missing key 'medium.phase_g'"), std::string::npos);
   std::string bad = text;
   bad.replace(bad.find("rig_laser: laser0"), 17, "rig_laser: laser9");
@@ -141,7 +144,8 @@ TEST(MediumTest, PresetsArePetzoldsWatersAt530) {
   EXPECT_EQ(Medium::Preset("air").Attenuation(530), 0.0);
   // Numbers are c_p(530); attenuation grows with it at every wavelength.
   for (double wavelength : {450.0, 530.0, 620.0}) {
-    EXPECT_LT(Medium::Parse("0.2").Attenuation(wavelength), Medium::Parse("0.5").Attenuation(wavelength));
+    EXPECT_LT(Medium::Parse("0.2").Attenuation(wavelength),
+              Medium::Parse("0.5").Attenuation(wavelength));
   }
   EXPECT_THROW(Medium::Parse("-1"), Error);
   EXPECT_THROW(Medium::Parse("murky"), Error);

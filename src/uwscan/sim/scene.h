@@ -37,8 +37,9 @@ struct Surface {
   Texture texture;
 
   // Ray (surface frame) -> smallest lambda in (min_lambda, max_lambda).
-  std::optional<double> IntersectLocal(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
-                                       double min_lambda, double max_lambda) const;
+  std::optional<double> IntersectLocal(const Eigen::Vector3d& origin,
+                                       const Eigen::Vector3d& direction, double min_lambda,
+                                       double max_lambda) const;
   // Outward unit normal and texture coordinates at a point on the surface
   // (surface frame).
   Eigen::Vector3d NormalLocal(const Eigen::Vector3d& point) const;

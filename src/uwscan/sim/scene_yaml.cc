@@ -56,7 +56,9 @@ std::string SceneToYaml(const Scenario& s) {
   out << "format: " << kFormat << "\n"
       << "# World frame: z up (the sea floor is z = 0 where there is one). Poses are\n"
       << "# a_from_b {q: [w, x, y, z], t: [x, y, z]} in metres; see docs/simulator.md.\n"
-      << (s.motion.type == MotionType::kViews ? "# motion 'views': the per-frame poses are those of groundtruth.tum\n" : "")
+      << (s.motion.type == MotionType::kViews
+              ? "# motion 'views': the per-frame poses are those of groundtruth.tum\n"
+              : "")
       << "scenario: " << s.name << "\n"
       << "seed: " << s.seed << "\n"
       << "# laser behind its own port tilted by tilt_rad (laser-tilt); rig.yaml holds the\n"
@@ -72,7 +74,8 @@ std::string SceneToYaml(const Scenario& s) {
     out << "  - name: " << surface.name << "\n"
         << "    type: " << SurfaceTypeName(surface.type) << "\n"
         << "    world_from_surface: " << YamlPose(surface.world_from_surface) << "\n"
-        << "    size: [" << YamlNumber(surface.size_x) << ", " << YamlNumber(surface.size_y) << "]\n"
+        << "    size: [" << YamlNumber(surface.size_x) << ", " << YamlNumber(surface.size_y)
+        << "]\n"
         << "    radius: " << YamlNumber(surface.radius) << "\n"
         << "    length: " << YamlNumber(surface.length) << "\n"
         << "    curvature: " << YamlNumber(surface.curvature) << "\n";
@@ -95,9 +98,11 @@ std::string SceneToYaml(const Scenario& s) {
         << "    fan_angle_rad: " << YamlNumber(l.fan_angle_rad) << "\n"
         << "    width_m: " << YamlNumber(l.width_m) << "\n"
         << "    divergence_rad: " << YamlNumber(l.divergence_rad) << "\n"
-        << "    # camera_from_laser(angle) = camera_from_laser(rig.yaml) * R(axis, angle) about pivot\n"
+        << "    # camera_from_laser(angle) = camera_from_laser(rig.yaml) * R(axis, angle) about "
+           "pivot\n"
         << "    servo: {enabled: " << Bool(l.servo) << ", axis: " << YamlVector(l.servo_axis)
-        << ", pivot: " << YamlVector(l.servo_pivot) << ", start_rad: " << YamlNumber(s.servo_start_rad)
+        << ", pivot: " << YamlVector(l.servo_pivot)
+        << ", start_rad: " << YamlNumber(s.servo_start_rad)
         << ", end_rad: " << YamlNumber(s.servo_end_rad) << "}\n";
   }
   out << "floods:" << (c.floods.empty() ? " []\n" : "\n");
@@ -109,7 +114,8 @@ std::string SceneToYaml(const Scenario& s) {
         << "    exponent: " << YamlNumber(f.exponent) << "\n";
   }
   out << "ambient: {irradiance_rgb: " << YamlVector(c.ambient.irradiance_rgb) << "}\n";
-  out << "snow: {per_m3: " << YamlNumber(c.snow.per_m3) << ", max_range_m: " << YamlNumber(c.snow.max_range_m)
+  out << "snow: {per_m3: " << YamlNumber(c.snow.per_m3)
+      << ", max_range_m: " << YamlNumber(c.snow.max_range_m)
       << ", focus_m: " << YamlNumber(c.snow.focus_m) << ", seed: " << c.snow.seed << "}\n";
   const SensorOptions& n = c.sensor;
   out << "sensor:\n"
@@ -213,8 +219,8 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
     for (size_t k = 0; k < rig.lasers.size(); ++k) {
       if (rig.lasers[k].name == rig_laser) laser.rig_laser = static_cast<int>(k);
     }
-    UWS_CHECK(laser.rig_laser >= 0, source, ": '", m.Name("rig_laser"), "' names laser '", rig_laser,
-              "' which the rig does not have");
+    UWS_CHECK(laser.rig_laser >= 0, source, ": '", m.Name("rig_laser"), "' names laser '",
+              rig_laser, "' which the rig does not have");
     laser.power_w = m.Number("power_w");
     laser.fan_angle_rad = m.Number("fan_angle_rad");
     laser.width_m = m.Number("width_m");
@@ -313,9 +319,11 @@ Scenario ReadSceneYaml(const std::filesystem::path& path, const Rig& rig) {
 Scenario LoadDatasetScenario(const std::filesystem::path& dataset) {
   Scenario scenario = ReadSceneYaml(dataset / "scene.yaml", ReadRigYaml(dataset / "rig.yaml"));
   if (scenario.motion.type == MotionType::kViews) {
-    for (const auto& pose : ReadTum(dataset / "groundtruth.tum")) scenario.views.push_back(pose.world_from_camera);
-    UWS_CHECK(static_cast<int>(scenario.views.size()) == scenario.frames, (dataset / "groundtruth.tum").string(),
-              ": ", scenario.views.size(), " poses but scene.yaml has ", scenario.frames, " frames");
+    for (const auto& pose : ReadTum(dataset / "groundtruth.tum"))
+      scenario.views.push_back(pose.world_from_camera);
+    UWS_CHECK(static_cast<int>(scenario.views.size()) == scenario.frames,
+              (dataset / "groundtruth.tum").string(), ": ", scenario.views.size(),
+              " poses but scene.yaml has ", scenario.frames, " frames");
   }
   return scenario;
 }

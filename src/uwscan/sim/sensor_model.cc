@@ -3,17 +3,20 @@
 #include <algorithm>
 #include <cmath>
 
-#include "uwscan/sim/random.h"
 #include "uwscan/sim/parallel.h"
+#include "uwscan/sim/random.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::sim {
 
 const char* OutputFormatName(OutputFormat format) {
   switch (format) {
-    case OutputFormat::kBayer: return "bayer";
-    case OutputFormat::kRgb: return "rgb";
-    case OutputFormat::kMono: return "mono";
+    case OutputFormat::kBayer:
+      return "bayer";
+    case OutputFormat::kRgb:
+      return "rgb";
+    case OutputFormat::kMono:
+      return "mono";
   }
   return "bayer";
 }
@@ -40,8 +43,7 @@ void SensorOptions::Check(const std::string& context) const {
   UWS_CHECK(quantum_efficiency > 0 && quantum_efficiency <= 1, context,
             ": quantum efficiency must be in (0, 1]");
   UWS_CHECK(std::isfinite(full_well_e) && full_well_e > 0, context, ": full well must be positive");
-  UWS_CHECK(std::isfinite(read_noise_e) && read_noise_e >= 0, context,
-            ": read noise must be >= 0");
+  UWS_CHECK(std::isfinite(read_noise_e) && read_noise_e >= 0, context, ": read noise must be >= 0");
   UWS_CHECK(std::isfinite(gain) && gain >= 1 && gain <= 1000, context, ": gain must be in 1..1000");
   UWS_CHECK(bits == 8 || bits == 12 || bits == 16, context, ": bits must be 8, 12 or 16 (got ",
             bits, ")");
@@ -87,16 +89,20 @@ cv::Mat Digitize(const cv::Mat& electrons_rgb, const SensorOptions& options,
         // OpenCV stores B G R.
         for (int k = 0; k < 3; ++k) {
           const double value = sample(e[2 - k], rng);
-          if (wide) image.ptr<uint16_t>(y)[3 * x + k] = static_cast<uint16_t>(value);
-          else image.ptr<uint8_t>(y)[3 * x + k] = static_cast<uint8_t>(value);
+          if (wide)
+            image.ptr<uint16_t>(y)[3 * x + k] = static_cast<uint16_t>(value);
+          else
+            image.ptr<uint8_t>(y)[3 * x + k] = static_cast<uint8_t>(value);
         }
         continue;
       }
       const double electrons =
           mosaic ? e[BayerChannel(bayer, x, y)] : static_cast<double>(e[0] + e[1] + e[2]);
       const double value = sample(electrons, rng);
-      if (wide) image.ptr<uint16_t>(y)[x] = static_cast<uint16_t>(value);
-      else image.ptr<uint8_t>(y)[x] = static_cast<uint8_t>(value);
+      if (wide)
+        image.ptr<uint16_t>(y)[x] = static_cast<uint16_t>(value);
+      else
+        image.ptr<uint8_t>(y)[x] = static_cast<uint8_t>(value);
     }
   });
   return image;

@@ -46,8 +46,8 @@ SimulateResult SimulateTest::result_;
 
 TEST_F(SimulateTest, WritesTheDatasetFolder) {
   const fs::path tank = dir_ / "tank";
-  for (const char* name : {"rig.yaml", "scene.yaml", "frames.csv", "groundtruth.tum", "laser_gt.csv",
-                           "frames/000000.png", "frames/000002.png"}) {
+  for (const char* name : {"rig.yaml", "scene.yaml", "frames.csv", "groundtruth.tum",
+                           "laser_gt.csv", "frames/000000.png", "frames/000002.png"}) {
     EXPECT_TRUE(fs::exists(tank / name)) << name;
   }
   EXPECT_EQ(result_.frames, 3);
@@ -75,14 +75,16 @@ TEST_F(SimulateTest, LaserTruthAgreesWithPosesSceneAndRig) {
     EXPECT_LT((*pixel - Eigen::Vector2d(row.u, row.v)).norm(), 0.01);
     // On the light sheet turned by the servo angle of frames.csv.
     LineProjector laser = rig.lasers[0];
-    laser.camera_from_laser = laser.camera_from_laser * source.ServoRotation(*frames[row.frame].laser_angle_rad);
+    laser.camera_from_laser =
+        laser.camera_from_laser * source.ServoRotation(*frames[row.frame].laser_angle_rad);
     EXPECT_NEAR(*laser.SheetResidual(point), 0.0, 1e-9);
     // On a surface of scene.yaml, placed in the world by groundtruth.tum.
     const Eigen::Vector3d world = poses[row.frame].world_from_camera * point;
     double residual = 1e9;
     for (const Surface& surface : scenario.config.scene.surfaces) {
-      residual = std::min(residual,
-                          std::abs(surface.ImplicitResidual(surface.world_from_surface.Inverse() * world)));
+      residual = std::min(
+          residual,
+          std::abs(surface.ImplicitResidual(surface.world_from_surface.Inverse() * world)));
     }
     EXPECT_LT(residual, 1e-8);
   }
@@ -108,12 +110,15 @@ TEST_F(SimulateTest, CheckerboardCornersAppearWherePosesAndSceneProjectThem) {
     const Texture& t = board->texture;
     for (int j = 1; j < t.squares_y; ++j) {
       for (int i = 1; i < t.squares_x; ++i) {
-        const Eigen::Vector3d local((i - 0.5 * t.squares_x) * t.scale_m, (j - 0.5 * t.squares_y) * t.scale_m, 0);
-        const auto pixel = rig.cameras[0].Project(camera_from_world * (board->world_from_surface * local));
+        const Eigen::Vector3d local((i - 0.5 * t.squares_x) * t.scale_m,
+                                    (j - 0.5 * t.squares_y) * t.scale_m, 0);
+        const auto pixel =
+            rig.cameras[0].Project(camera_from_world * (board->world_from_surface * local));
         ASSERT_TRUE(pixel);
         bool near_laser = false;
         for (const auto& row : truth) {
-          near_laser |= row.frame == frame && std::hypot(row.u - pixel->x(), row.v - pixel->y()) < 8;
+          near_laser |=
+              row.frame == frame && std::hypot(row.u - pixel->x(), row.v - pixel->y()) < 8;
         }
         if (near_laser) continue;
         projected.emplace_back(pixel->x(), pixel->y());
@@ -123,11 +128,13 @@ TEST_F(SimulateTest, CheckerboardCornersAppearWherePosesAndSceneProjectThem) {
     corners = projected;
     cv::cornerSubPix(red, corners, cv::Size(3, 3), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4));
-    for (size_t k = 0; k < corners.size(); ++k) errors.push_back(cv::norm(corners[k] - projected[k]));
+    for (size_t k = 0; k < corners.size(); ++k)
+      errors.push_back(cv::norm(corners[k] - projected[k]));
   }
   std::sort(errors.begin(), errors.end());
-  std::cout << "corner error vs projected truth: median " << errors[errors.size() / 2] << " px, 95% "
-            << errors[errors.size() * 95 / 100] << " px over " << errors.size() << " corners\n";
+  std::cout << "corner error vs projected truth: median " << errors[errors.size() / 2]
+            << " px, 95% " << errors[errors.size() * 95 / 100] << " px over " << errors.size()
+            << " corners\n";
   EXPECT_LT(errors[errors.size() / 2], 0.15);  // median
   EXPECT_LT(errors[errors.size() * 95 / 100], 0.3);
 }
@@ -139,7 +146,8 @@ TEST_F(SimulateTest, RerenderingFromTheFilesReproducesTheFramesExactly) {
   const Renderer renderer(scenario.config);
   const Trajectory trajectory(scenario.motion);
   const FrameState state = scenario.FrameAt(trajectory, 1);
-  EXPECT_LT((state.world_from_camera.translation - poses[1].world_from_camera.translation).norm(), 1e-12);
+  EXPECT_LT((state.world_from_camera.translation - poses[1].world_from_camera.translation).norm(),
+            1e-12);
   const cv::Mat again = renderer.Render(state).image;
   EXPECT_EQ(cv::norm(again, ReadImage(tank / FrameFileName(1)), cv::NORM_INF), 0.0);
 }

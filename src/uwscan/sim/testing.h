@@ -41,7 +41,8 @@ inline SimConfig PlaneConfig(int width, int height, const std::string& water, do
   plane.texture.type = TextureType::kUniform;
   plane.texture.albedo = {0.5, 0.5, 0.5};
   plane.world_from_surface =
-      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX())), Eigen::Vector3d::Zero());
+      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX())),
+              Eigen::Vector3d::Zero());
   config.scene.surfaces = {plane};
   config.floods.clear();
   config.sensor.noise = false;

@@ -69,7 +69,8 @@ TEST(TurbidityFigureTest, StripAndProfiles) {
     const Renderer renderer(scenario.config);
     const RenderedFrame frame = renderer.Render(scenario.FrameAt(Trajectory(scenario.motion), 30));
     tiles.push_back(Display(frame.electrons, 2500.0 /* full scale at gain 4 */));
-    cv::putText(tiles.back(), water == "1.0" ? "c_p 1.0/m" : water, {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {255, 255, 255}, 1);
+    cv::putText(tiles.back(), water == "1.0" ? "c_p 1.0/m" : water, {8, 20},
+                cv::FONT_HERSHEY_SIMPLEX, 0.6, {255, 255, 255}, 1);
     mean_green.push_back(cv::mean(frame.electrons)[1]);
   }
   // Profiles.
@@ -78,8 +79,8 @@ TEST(TurbidityFigureTest, StripAndProfiles) {
   const double top = *std::max_element(profiles[0].begin(), profiles[0].end());
   for (size_t w = 0; w < kWaters.size(); ++w) {
     const auto& p = profiles[w];
-    std::cout << kWaters[w] << ": peak " << *std::max_element(p.begin(), p.end()) << " e-, at +-30 px "
-              << 0.5 * (p[10] + p[70]) << " e-\n";
+    std::cout << kWaters[w] << ": peak " << *std::max_element(p.begin(), p.end())
+              << " e-, at +-30 px " << 0.5 * (p[10] + p[70]) << " e-\n";
   }
   // The line dims with turbidity.
   EXPECT_GT(*std::max_element(profiles[0].begin(), profiles[0].end()),
@@ -100,20 +101,24 @@ TEST(TurbidityFigureTest, StripAndProfiles) {
   const cv::Scalar colours[4] = {{200, 120, 0}, {0, 160, 0}, {0, 120, 220}, {0, 0, 200}};
   auto to_point = [&](int i, double value) {
     const double y = std::log10(std::max(value / top, 1e-6)) / -6.0;  // 0 top, 1 bottom
-    return cv::Point(margin + i * (w - 2 * margin) / 80, margin + static_cast<int>(y * (h - 2 * margin)));
+    return cv::Point(margin + i * (w - 2 * margin) / 80,
+                     margin + static_cast<int>(y * (h - 2 * margin)));
   };
   cv::rectangle(plot, {margin, margin}, {w - margin, h - margin}, {0, 0, 0});
   for (int decade = 0; decade <= 6; ++decade) {
     const int y = margin + decade * (h - 2 * margin) / 6;
     cv::line(plot, {margin, y}, {w - margin, y}, {220, 220, 220});
-    cv::putText(plot, "1e-" + std::to_string(decade), {2, y + 4}, cv::FONT_HERSHEY_PLAIN, 0.8, {0, 0, 0});
+    cv::putText(plot, "1e-" + std::to_string(decade), {2, y + 4}, cv::FONT_HERSHEY_PLAIN, 0.8,
+                {0, 0, 0});
   }
   for (size_t k = 0; k < profiles.size(); ++k) {
     for (int i = 1; i <= 80; ++i) {
-      cv::line(plot, to_point(i - 1, profiles[k][i - 1]), to_point(i, profiles[k][i]), colours[k], 2);
+      cv::line(plot, to_point(i - 1, profiles[k][i - 1]), to_point(i, profiles[k][i]), colours[k],
+               2);
     }
-    cv::putText(plot, kWaters[k] == "1.0" ? "c_p 1.0/m" : kWaters[k], {w - margin - 90, margin + 20 + 18 * static_cast<int>(k)},
-                cv::FONT_HERSHEY_SIMPLEX, 0.5, colours[k], 1);
+    cv::putText(plot, kWaters[k] == "1.0" ? "c_p 1.0/m" : kWaters[k],
+                {w - margin - 90, margin + 20 + 18 * static_cast<int>(k)}, cv::FONT_HERSHEY_SIMPLEX,
+                0.5, colours[k], 1);
   }
   cv::putText(plot, "green signal across the laser line (-40..40 px), relative to clear peak",
               {margin, h - 12}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
