@@ -41,7 +41,7 @@ inline Surface Floor(uint64_t seed, double size_m) {
   floor.texture.albedo = {0.45, 0.42, 0.33};  // sand
   floor.texture.contrast = 0.7;
   floor.texture.scale_m = 0.8;
-  floor.texture.octaves = 6;
+  floor.texture.octaves = 8;
   floor.texture.seed = SplitMix64(seed ^ 0xF1004);
   return floor;
 }
