@@ -1,7 +1,8 @@
-// The turbidity figure of docs/simulator.md: the tank-target scene in clear,
-// coastal and turbid water (image strip) and the mean laser-line profile
-// across the line (plot). Written when UWSCAN_FIGURE_DIR is set:
-//   UWSCAN_FIGURE_DIR=docs/img build/tests/sim_turbidity_figure_test
+// The figures of docs/simulator.md: the tank-target scene in clear, coastal
+// and turbid water (image strip), the mean laser-line profile across the
+// line (plot), and one frame of every scenario. Written when
+// UWSCAN_FIGURE_DIR is set:
+//   UWSCAN_FIGURE_DIR=docs/img build/tests/sim_figures_test
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,7 +56,7 @@ std::vector<double> LineProfile(const std::string& water) {
   return profile;
 }
 
-TEST(TurbidityFigureTest, StripAndProfiles) {
+TEST(FiguresTest, TurbidityStripAndProfiles) {
   // Image strip: frame 30 of tank-target (laser on the board).
   std::vector<cv::Mat> tiles;
   std::vector<double> mean_green;
@@ -123,6 +124,33 @@ TEST(TurbidityFigureTest, StripAndProfiles) {
   cv::putText(plot, "green signal across the laser line (-40..40 px), relative to clear peak",
               {margin, h - 12}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
   ASSERT_TRUE(cv::imwrite(std::string(dir) + "/sim_turbidity_profile.png", plot));
+}
+
+TEST(FiguresTest, ScenarioGallery) {
+  std::vector<cv::Mat> tiles;
+  for (const std::string& name : ScenarioNames()) {
+    ScenarioOptions options;
+    options.width = 320;
+    options.height = 240;
+    options.frames = 5;
+    options.output = OutputFormat::kRgb;
+    const Scenario scenario = MakeScenario(name, options);
+    const Renderer renderer(scenario.config);
+    const FrameState state = scenario.FrameAt(Trajectory(scenario.motion), 2);
+    cv::Mat image = renderer.Render(state).image;
+    ASSERT_EQ(image.type(), CV_8UC3);
+    EXPECT_GT(cv::mean(image)[2], 2.0) << name;  // lit, not black
+    cv::putText(image, name, {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {255, 255, 255}, 1);
+    tiles.push_back(image);
+  }
+  const char* dir = std::getenv("UWSCAN_FIGURE_DIR");
+  if (!dir) return;
+  tiles.push_back(cv::Mat::zeros(tiles[0].size(), tiles[0].type()));
+  cv::Mat top, bottom, gallery;
+  cv::hconcat(std::vector<cv::Mat>(tiles.begin(), tiles.begin() + 3), top);
+  cv::hconcat(std::vector<cv::Mat>(tiles.begin() + 3, tiles.end()), bottom);
+  cv::vconcat(top, bottom, gallery);
+  ASSERT_TRUE(cv::imwrite(std::string(dir) + "/sim_scenarios.png", gallery));
 }
 
 }  // namespace
