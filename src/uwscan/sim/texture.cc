@@ -108,16 +108,17 @@ Eigen::Vector3d Texture::Albedo(double s, double t, double footprint_m) const {
       return albedo + dark_share * (albedo_dark - albedo);
     }
     case TextureType::kNatural: {
+      // Every octave counts in the normalisation (faded ones with mean 0).
       double variation = 0.0, total = 0.0;
+      for (int k = 0; k < octaves; ++k) total += kOctaveAmplitude[k];
       const bool cached = octaves_.size() == static_cast<size_t>(octaves) &&
                           prepared_seed_ == seed && prepared_scale_m_ == scale_m;
       for (int k = 0; k < octaves; ++k) {
         const double cells_per_footprint = footprint_m * std::ldexp(1.0, k) / scale_m;
-        if (cells_per_footprint >= 2.0) {  // faded to its mean
-          total += kOctaveAmplitude[k];
-          continue;
-        }
-        const Octave o = cached ? octaves_[k] : MakeOctave(k);
+        if (cells_per_footprint >= 2.0) break;  // this and all finer octaves faded to their mean
+        Octave made;
+        if (!cached) made = MakeOctave(k);
+        const Octave& o = cached ? octaves_[k] : made;
         const double u = (o.cos_angle * s - o.sin_angle * t) / o.cell_m + o.shift_u;
         const double v = (o.sin_angle * s + o.cos_angle * t) / o.cell_m + o.shift_v;
         const uint64_t octave_seed = o.seed;
@@ -125,7 +126,6 @@ Eigen::Vector3d Texture::Albedo(double s, double t, double footprint_m) const {
                      FilteredCells(u, v, cells_per_footprint, [octave_seed](int64_t i, int64_t j) {
                        return CellValue(octave_seed, i, j);
                      });
-        total += o.amplitude;
       }
       const double factor = std::max(0.0, 1.0 + contrast * 1.7 * variation / total);
       return albedo * factor;
