@@ -10,7 +10,7 @@ namespace {
 
 struct SimulateArgs {
   std::string scenario, out, turbidity, output;
-  int frames = 0, width = 0, height = 0, bits = 0, threads = 2, motion_blur = 1;
+  int frames = 0, width = 0, height = 0, bits = 0, threads = 2, motion_blur = 1, supersample = 1;
   double marine_snow = 0;
   uint64_t seed = 1;
   double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0,
@@ -38,6 +38,7 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   if (given("--laser-tilt-deg")) options.laser_tilt_deg = args.laser_tilt_deg;
   options.threads = args.threads;
   options.motion_blur_samples = args.motion_blur;
+  options.supersample = args.supersample;
   options.marine_snow_per_m3 = args.marine_snow;
   try {
     if (given("--output")) options.output = sim::OutputFormatFromName(args.output);
@@ -84,6 +85,8 @@ void RegisterSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--laser-tilt-deg", args->laser_tilt_deg,
                   "laser-tilt: laser tilt behind the window (deg)")
+      ->capture_default_str();
+  cmd->add_option("--supersample", args->supersample, "n x n camera rays per pixel")
       ->capture_default_str();
   cmd->add_option("--motion-blur", args->motion_blur, "poses averaged over the exposure (1 = off)")
       ->capture_default_str();

@@ -42,8 +42,9 @@ done
 expect_status 0 "hull rgb turbid" "$uwscan" simulate hull --out "$work/hull" --frames 2 --width 96 \
   --height 72 --turbidity turbid --output rgb --bits 16 --laser-power 0.1 --motion-amplitude 0.05 --quiet
 expect_status 0 "snow and motion blur" "$uwscan" simulate tank-target --out "$work/snow" --frames 2 \
-  --width 96 --height 72 --marine-snow 200 --motion-blur 3 --quiet
+  --width 96 --height 72 --marine-snow 200 --motion-blur 3 --supersample 2 --quiet
 grep -q "per_m3: 200" "$work/snow/scene.yaml" || fail "snow not in scene.yaml"
+grep -q "  supersample: 2" "$work/snow/scene.yaml" || fail "supersample not in scene.yaml"
 expect_status 0 "seabed numeric turbidity" "$uwscan" simulate seabed-transect --out "$work/sea" \
   --frames 2 --width 96 --height 72 --turbidity 0.5 --output mono --quiet
 

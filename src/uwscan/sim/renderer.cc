@@ -43,6 +43,7 @@ double PixelGain(const Camera& camera, const Eigen::Vector2d& pixel, const Eigen
 }  // namespace
 
 void RenderOptions::Check(const std::string& context) const {
+  UWS_CHECK(supersample >= 1 && supersample <= 8, context, ": supersample must be 1..8");
   UWS_CHECK(laser_supersample >= 1 && laser_supersample <= 16, context,
             ": laser_supersample must be 1..16");
   UWS_CHECK(backscatter_step_px >= 0 && backscatter_step_px <= 64, context,
@@ -251,7 +252,6 @@ RenderedFrame Renderer::Render(const FrameState& state) const {
   if (poses.empty()) poses.push_back(state.world_from_camera);
   buffers.weight = 1.0 / poses.size();
   for (const Rigid3d& pose : poses) RenderPose(pose, lasers, &buffers);
-  buffers.range *= buffers.weight;
   if (config_.render.forward_scatter) AddForwardScatter(&buffers);
 
   RenderedFrame frame;
@@ -277,8 +277,19 @@ RenderedFrame Renderer::Render(const FrameState& state) const {
 
 void Renderer::RenderPose(const Rigid3d& world_from_camera, const std::vector<LaserFrame>& lasers,
                           Buffers* buffers) const {
-  ParallelRows(height_, config_.render.threads,
-               [&](int y) { RenderRow(y, world_from_camera, lasers, buffers); });
+  const int n = config_.render.supersample;
+  const double pose_weight = buffers->weight;
+  buffers->weight = pose_weight / (n * n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      buffers->sub_offset = n == 1 ? Eigen::Vector2d::Zero()
+                                   : Eigen::Vector2d((i + 0.5) / n - 0.5, (j + 0.5) / n - 0.5);
+      ParallelRows(height_, config_.render.threads,
+                   [&](int y) { RenderRow(y, world_from_camera, lasers, buffers); });
+    }
+  }
+  buffers->weight = pose_weight;
+  buffers->sub_offset.setZero();
   if (config_.render.backscatter && !config_.floods.empty()) {
     AddFloodBackscatter(world_from_camera, buffers);
   }

@@ -25,6 +25,7 @@
 namespace uwscan::sim {
 
 struct RenderOptions {
+  int supersample = 1;           // n x n camera rays per pixel (textures are box-filtered anyway)
   int laser_supersample = 4;     // n x n sub-rays in pixels near a laser line
   int backscatter_step_px = 0;   // grid step of the flood-light backscatter (0: width / 80)
   int backscatter_samples = 12;  // samples along each camera ray

@@ -27,7 +27,8 @@ struct Renderer::Buffers {
   cv::Mat blurred;      // CV_32FC3: direct light scattered into the small-angle lobe
   cv::Mat back;         // CV_32FC3: backscatter / veiling light
   cv::Mat range;        // CV_32F
-  double weight = 1.0;  // 1 / number of exposure poses
+  double weight = 1.0;  // of the current pass: 1 / (exposure poses x supersample^2)
+  Eigen::Vector2d sub_offset = Eigen::Vector2d::Zero();  // of the current supersampling pass (px)
 };
 
 inline double Gaussian(double x, double sigma) {

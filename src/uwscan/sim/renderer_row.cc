@@ -76,12 +76,14 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
   cv::Vec3f* blurred_row = buffers->blurred.ptr<cv::Vec3f>(y);
   cv::Vec3f* back_row = buffers->back.ptr<cv::Vec3f>(y);
   float* range_row = buffers->range.ptr<float>(y);
+  const Eigen::Vector2d sub = buffers->sub_offset;
+  const bool supersampled = options.supersample > 1;
 
   for (int x = 0; x < width_; ++x) {
     const PixelRay& ray = rays_[static_cast<size_t>(y + 1) * grid_cols + x + 1];
     if (ray.direction.squaredNorm() == 0) continue;
-    const Eigen::Vector3d origin = ray.origin.cast<double>(),
-                          direction = ray.direction.cast<double>();
+    Eigen::Vector3d origin = ray.origin.cast<double>(), direction = ray.direction.cast<double>();
+    if (supersampled) RayAt(x + sub.x(), y + sub.y(), &origin, &direction);
     const Eigen::Vector3d origin_world = world_R_camera * origin + world_from_camera.translation;
     const Eigen::Vector3d direction_world = world_R_camera * direction;
     const auto hit =
@@ -99,7 +101,7 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
 
     if (hit) {
       const double range = hit->lambda;
-      range_row[x] += static_cast<float>(range);
+      range_row[x] += static_cast<float>(range * buffers->weight);
       const Eigen::Vector3d point = origin + range * direction;
       Eigen::Vector3d normal = world_R_camera.transpose() * hit->normal_world;
       if (normal.dot(direction) > 0) normal = -normal;  // face the camera
@@ -162,11 +164,14 @@ void Renderer::RenderRow(int y, const Rigid3d& world_from_camera,
           }
         }
         if (offset > 6 * sigma + 2 * footprint) continue;
-        const int n = options.laser_supersample;
+        // With global supersampling each pass is one sub-ray already.
+        const int n = supersampled ? 1 : options.laser_supersample;
         for (int j = 0; j < n; ++j) {
           for (int i = 0; i < n; ++i) {
-            Eigen::Vector3d sub_origin, sub_direction;
-            RayAt(x + (i + 0.5) / n - 0.5, y + (j + 0.5) / n - 0.5, &sub_origin, &sub_direction);
+            Eigen::Vector3d sub_origin = origin, sub_direction = direction;
+            if (n > 1) {
+              RayAt(x + (i + 0.5) / n - 0.5, y + (j + 0.5) / n - 0.5, &sub_origin, &sub_direction);
+            }
             const auto sub_hit =
                 config_.scene.Intersect(world_R_camera * sub_origin + world_from_camera.translation,
                                         world_R_camera * sub_direction, 1e-9, options.max_range_m);

@@ -208,6 +208,8 @@ void ScenarioOptions::Check() const {
               "--laser-tilt-deg must be in [-20, 20] (got ", *laser_tilt_deg, ")");
   }
   UWS_CHECK(threads >= 1 && threads <= 256, "--threads must be 1..256");
+  UWS_CHECK(supersample >= 1 && supersample <= 8, "--supersample must be 1..8 (got ", supersample,
+            ")");
   UWS_CHECK(motion_blur_samples >= 1 && motion_blur_samples <= 64,
             "--motion-blur must be 1..64 (got ", motion_blur_samples, ")");
   UWS_CHECK(
@@ -280,6 +282,8 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
   }
   scenario.seed = options.seed;
   scenario.motion_blur_samples = options.motion_blur_samples;
+  scenario.config.render.supersample = options.supersample;
+  for (auto& set : scenario.calibration) set.config.render.supersample = options.supersample;
   scenario.config.snow.per_m3 = options.marine_snow_per_m3;
   scenario.config.snow.seed = StreamSeed(options.seed, 0x5A0);
   scenario.config.Check();

@@ -37,6 +37,7 @@ struct ScenarioOptions {
   // thesis) and window tilt; laser-tilt (§6.2): laser tilt behind the window.
   std::optional<double> port_gap_mm, port_tilt_deg, laser_tilt_deg;
   int motion_blur_samples = 1;    // poses averaged over the exposure
+  int supersample = 1;            // camera rays per pixel (n x n)
   double marine_snow_per_m3 = 0;  // particles per cubic metre (0 = none)
 
   void Check() const;  // throws uwscan::Error naming the option

@@ -201,6 +201,27 @@ TEST(ScenarioTest, MotionBlurSmoothsTheImage) {
   EXPECT_LT(gradient_energy(blurred), 0.8 * gradient_energy(sharp));
 }
 
+TEST(ScenarioTest, BoxFilteredTexturesMatchSupersampling) {
+  // One ray per pixel with box-filtered textures vs. 4x4 rays per pixel.
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.output = OutputFormat::kRgb;
+  Scenario scenario = MakeScenario("tank-target", options);
+  scenario.config.sensor.noise = false;
+  const FrameState state = scenario.FrameAt(Trajectory(scenario.motion), 0);
+  const cv::Mat single = Renderer(scenario.config).Render(state).electrons;
+  scenario.config.render.supersample = 4;
+  const RenderedFrame super = Renderer(scenario.config).Render(state);
+  cv::Mat red_single, red_super;
+  cv::extractChannel(single, red_single, 0);
+  cv::extractChannel(super.electrons, red_super, 0);
+  const double mean = cv::mean(red_super)[0];
+  EXPECT_LT(cv::norm(red_single, red_super, cv::NORM_L1) / red_super.total(), 0.03 * mean);
+  EXPECT_LT(std::abs(cv::mean(red_single)[0] - mean), 0.01 * mean);
+  EXPECT_NEAR(super.range_m.at<float>(120, 160), 2.0, 0.2);
+}
+
 TEST(ScenarioTest, BadOptionsAreRejected) {
   ScenarioOptions options;
   options.frames = 0;

@@ -131,6 +131,7 @@ std::string SceneToYaml(const Scenario& s) {
       << "  noise: " << Bool(n.noise) << "\n";
   const RenderOptions& r = c.render;
   out << "render:\n"
+      << "  supersample: " << r.supersample << "\n"
       << "  laser_supersample: " << r.laser_supersample << "\n"
       << "  backscatter_step_px: " << r.backscatter_step_px << "\n"
       << "  backscatter_samples: " << r.backscatter_samples << "\n"
@@ -277,6 +278,7 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
 
   StrictMap render = top.Child("render");
   RenderOptions& r = s.config.render;
+  r.supersample = render.Integer("supersample");
   r.laser_supersample = render.Integer("laser_supersample");
   r.backscatter_step_px = render.Integer("backscatter_step_px");
   r.backscatter_samples = render.Integer("backscatter_samples");
