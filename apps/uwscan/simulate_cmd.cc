@@ -10,9 +10,11 @@ namespace {
 
 struct SimulateArgs {
   std::string scenario, out, turbidity, output;
-  int frames = 0, width = 0, height = 0, bits = 0, threads = 2;
+  int frames = 0, width = 0, height = 0, bits = 0, threads = 2, motion_blur = 1, supersample = 1;
+  double marine_snow = 0;
   uint64_t seed = 1;
-  double motion_amplitude = -1, laser_power = -1;
+  double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0,
+         laser_tilt_deg = 5;
   bool quiet = false;
 };
 
@@ -21,7 +23,8 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   const auto given = [&app](const char* name) { return app.count(name) > 0; };
   if (given("--frames")) options.frames = args.frames;
   if (given("--width") || given("--height")) {
-    if (!given("--width") || !given("--height")) throw UsageError("--width and --height go together");
+    if (!given("--width") || !given("--height"))
+      throw UsageError("--width and --height go together");
     options.width = args.width;
     options.height = args.height;
   }
@@ -30,7 +33,13 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   if (given("--motion-amplitude")) options.motion_amplitude = args.motion_amplitude;
   if (given("--laser-power")) options.laser_power_w = args.laser_power;
   if (given("--bits")) options.bits = args.bits;
+  if (given("--port-gap-mm")) options.port_gap_mm = args.port_gap_mm;
+  if (given("--port-tilt-deg")) options.port_tilt_deg = args.port_tilt_deg;
+  if (given("--laser-tilt-deg")) options.laser_tilt_deg = args.laser_tilt_deg;
   options.threads = args.threads;
+  options.motion_blur_samples = args.motion_blur;
+  options.supersample = args.supersample;
+  options.marine_snow_per_m3 = args.marine_snow;
   try {
     if (given("--output")) options.output = sim::OutputFormatFromName(args.output);
     options.Check();
@@ -43,7 +52,8 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   const sim::SimulateResult result = sim::WriteDataset(scenario, args.out, !args.quiet);
   if (!args.quiet) {
     std::cerr << "uwscan: wrote " << result.frames << " frames (" << result.laser_points
-              << " laser ground-truth points) to " << args.out << " in " << result.seconds << " s\n";
+              << " laser ground-truth points) to " << args.out << " in " << result.seconds
+              << " s\n";
   }
 }
 
@@ -56,17 +66,32 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("scenario", args->scenario,
                   "tank-target | hull | seabed-transect | aquarium | laser-tilt")
       ->required();
-  cmd->add_option("--out", args->out, "output dataset folder (must not exist or be empty)")->required();
+  cmd->add_option("--out", args->out, "output dataset folder (must not exist or be empty)")
+      ->required();
   cmd->add_option("--frames", args->frames, "number of frames (default per scenario)");
   cmd->add_option("--width", args->width, "image width in pixels (intrinsics scale along)");
   cmd->add_option("--height", args->height, "image height in pixels");
-  cmd->add_option("--seed", args->seed, "random seed (motion, texture, noise)")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "random seed (motion, texture, noise)")
+      ->capture_default_str();
   cmd->add_option("--turbidity", args->turbidity,
                   "air | pure | clear | coastal | turbid, or c_p(530 nm) in 1/m");
   cmd->add_option("--motion-amplitude", args->motion_amplitude, "rms platform motion per axis (m)");
   cmd->add_option("--laser-power", args->laser_power, "laser power on the line (W)");
   cmd->add_option("--output", args->output, "bayer | rgb | mono (default bayer)");
   cmd->add_option("--bits", args->bits, "8 | 12 | 16 bit quantisation (default 8)");
+  cmd->add_option("--port-gap-mm", args->port_gap_mm, "aquarium: lens-to-window gap (mm)")
+      ->capture_default_str();
+  cmd->add_option("--port-tilt-deg", args->port_tilt_deg, "aquarium: window tilt (deg)")
+      ->capture_default_str();
+  cmd->add_option("--laser-tilt-deg", args->laser_tilt_deg,
+                  "laser-tilt: laser tilt behind the window (deg)")
+      ->capture_default_str();
+  cmd->add_option("--supersample", args->supersample, "n x n camera rays per pixel")
+      ->capture_default_str();
+  cmd->add_option("--motion-blur", args->motion_blur, "poses averaged over the exposure (1 = off)")
+      ->capture_default_str();
+  cmd->add_option("--marine-snow", args->marine_snow, "marine snow particles per m^3 (0 = off)")
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "render threads")->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "no progress bar or summary");
   cmd->callback([args, cmd] { RunSimulate(*args, *cmd); });

@@ -43,7 +43,8 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
       UWS_CHECK(used == fields[1].size(), "");
       if (with_angle) record.laser_angle_rad = std::stod(fields[3]);
     } catch (const std::exception&) {
-      UWS_THROW(path.string(), ":", number, ": index, timestamp_s and laser_angle_rad must be numbers");
+      UWS_THROW(path.string(), ":", number,
+                ": index, timestamp_s and laser_angle_rad must be numbers");
     }
     record.file = fields[2];
     UWS_CHECK(!record.file.empty(), path.string(), ":", number, ": empty file name");
@@ -54,13 +55,15 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
 
 FramesCsvWriter::FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle)
     : file_(path), with_laser_angle_(with_laser_angle) {
-  file_.stream() << "index,timestamp_s,file" << (with_laser_angle ? ",laser_angle_rad" : "") << "\n";
+  file_.stream() << "index,timestamp_s,file" << (with_laser_angle ? ",laser_angle_rad" : "")
+                 << "\n";
 }
 
 void FramesCsvWriter::Add(const FrameRecord& record) {
   file_.stream() << record.index << "," << fmt::format("{:.17g}", record.timestamp_s) << ","
                  << record.file;
-  if (with_laser_angle_) file_.stream() << "," << fmt::format("{:.17g}", record.laser_angle_rad.value_or(0.0));
+  if (with_laser_angle_)
+    file_.stream() << "," << fmt::format("{:.17g}", record.laser_angle_rad.value_or(0.0));
   file_.stream() << "\n";
 }
 
@@ -83,8 +86,8 @@ std::vector<LaserTruthRow> ReadLaserTruthCsv(const std::filesystem::path& path) 
   std::vector<LaserTruthRow> rows;
   rows.reserve(table.rows.size());
   for (const auto& row : table.rows) {
-    rows.push_back({static_cast<int>(row[frame]), static_cast<int>(row[laser]), row[u], row[v], row[x],
-                    row[y], row[z]});
+    rows.push_back({static_cast<int>(row[frame]), static_cast<int>(row[laser]), row[u], row[v],
+                    row[x], row[y], row[z]});
   }
   return rows;
 }

@@ -29,7 +29,9 @@ void LaserSource::Check(const std::string& context) const {
 
 double FloodLight::Intensity(double cos_angle) const {
   if (cos_angle <= 0) return 0.0;
-  return power_w * (exponent + 1) / (2 * M_PI) * std::pow(cos_angle, exponent);
+  const double peak = power_w * (exponent + 1) / (2 * M_PI);
+  if (exponent == 1.5) return peak * cos_angle * std::sqrt(cos_angle);  // the default, off pow()
+  return peak * std::pow(cos_angle, exponent);
 }
 
 void FloodLight::Check(const std::string& context) const {

@@ -38,7 +38,7 @@ struct FloodLight {
   Rigid3d camera_from_light;  // light z axis = beam axis
   double power_w = 2.0;       // radiant power
   double wavelength_nm = 630.0;
-  double exponent = 2.0;      // m of the cos^m beam pattern
+  double exponent = 2.0;  // m of the cos^m beam pattern
 
   double Intensity(double cos_angle) const;  // W/sr
   void Check(const std::string& context) const;

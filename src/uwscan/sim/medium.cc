@@ -87,13 +87,15 @@ double InterpolateRgb(const Eigen::Vector3d& rgb, double wavelength_nm) {
   const double* l = kChannelWavelengthNm;
   if (wavelength_nm >= l[0]) return rgb[0];
   if (wavelength_nm <= l[2]) return rgb[2];
-  if (wavelength_nm >= l[1]) return rgb[1] + (rgb[0] - rgb[1]) * (wavelength_nm - l[1]) / (l[0] - l[1]);
+  if (wavelength_nm >= l[1])
+    return rgb[1] + (rgb[0] - rgb[1]) * (wavelength_nm - l[1]) / (l[0] - l[1]);
   return rgb[2] + (rgb[1] - rgb[2]) * (wavelength_nm - l[2]) / (l[1] - l[2]);
 }
 
 double Medium::Absorption(double wavelength_nm) const {
   if (air) return 0.0;
-  const double particle_a = particle_attenuation_530 * (1.0 - ScatteringShare(particle_attenuation_530));
+  const double particle_a =
+      particle_attenuation_530 * (1.0 - ScatteringShare(particle_attenuation_530));
   return PureWaterAbsorption(wavelength_nm) +
          particle_a * std::exp(-kCdomSlopePerNm * (wavelength_nm - 530.0));
 }
@@ -166,8 +168,10 @@ Medium Medium::Parse(const std::string& turbidity) {
   double value = 0.0;
   const auto result = std::from_chars(turbidity.data(), turbidity.data() + turbidity.size(), value);
   if (result.ec == std::errc() && result.ptr == turbidity.data() + turbidity.size()) {
-    UWS_CHECK(std::isfinite(value) && value >= 0, "--turbidity must be a preset or a number >= 0 "
-              "(particle attenuation at 530 nm in 1/m), got '", turbidity, "'");
+    UWS_CHECK(std::isfinite(value) && value >= 0,
+              "--turbidity must be a preset or a number >= 0 "
+              "(particle attenuation at 530 nm in 1/m), got '",
+              turbidity, "'");
     return FromParticleAttenuation(value);
   }
   return Preset(turbidity);

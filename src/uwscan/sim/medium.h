@@ -24,9 +24,9 @@ struct Medium {
   std::string name = "clear";
   bool air = false;  // no water at all (in-air calibration images): no attenuation or scattering
   double particle_attenuation_530 = 0.1003;  // c_p(530) = c - a_w, 1/m; 0 = pure water
-  double phase_g = 0.924;            // Henyey–Greenstein asymmetry fitted to Petzold's VSF
-  double forward_fraction = 0.5;     // share of b scattered into the small-angle lobe
-  double forward_angle_rad = 0.03;   // rms angle of that lobe
+  double phase_g = 0.924;           // Henyey–Greenstein asymmetry fitted to Petzold's VSF
+  double forward_fraction = 0.5;    // share of b scattered into the small-angle lobe
+  double forward_angle_rad = 0.03;  // rms angle of that lobe
 
   double Absorption(double wavelength_nm) const;
   double Scattering(double wavelength_nm) const;

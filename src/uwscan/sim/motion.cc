@@ -10,9 +10,14 @@ namespace uwscan::sim {
 
 const char* MotionTypeName(MotionType type) {
   switch (type) {
-    case MotionType::kStatic: return "static";
-    case MotionType::kHover: return "hover";
-    case MotionType::kTransect: return "transect";
+    case MotionType::kStatic:
+      return "static";
+    case MotionType::kHover:
+      return "hover";
+    case MotionType::kTransect:
+      return "transect";
+    case MotionType::kViews:
+      return "views";
   }
   return "static";
 }
@@ -21,7 +26,8 @@ MotionType MotionTypeFromName(const std::string& name, const std::string& contex
   if (name == "static") return MotionType::kStatic;
   if (name == "hover") return MotionType::kHover;
   if (name == "transect") return MotionType::kTransect;
-  UWS_THROW(context, ": motion type must be static, hover or transect (got '", name, "')");
+  if (name == "views") return MotionType::kViews;
+  UWS_THROW(context, ": motion type must be static, hover, transect or views (got '", name, "')");
 }
 
 void MotionOptions::Check(const std::string& context) const {
@@ -58,7 +64,7 @@ double Trajectory::Offset(const Axis& axis, double amplitude, double time_s) con
 
 Rigid3d Trajectory::WorldFromCamera(double time_s) const {
   const Rigid3d& start = options_.world_from_camera_start;
-  if (options_.type == MotionType::kStatic) return start;
+  if (options_.type == MotionType::kStatic || options_.type == MotionType::kViews) return start;
   Eigen::Vector3d translation = start.translation;
   if (options_.type == MotionType::kTransect) translation += options_.velocity_world * time_s;
   Eigen::Vector3d rotation_vector;

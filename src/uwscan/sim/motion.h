@@ -13,7 +13,9 @@
 
 namespace uwscan::sim {
 
-enum class MotionType { kStatic, kHover, kTransect };
+// kViews: a list of poses (calibration views), kept by the Scenario and
+// in groundtruth.tum; the trajectory itself is then static.
+enum class MotionType { kStatic, kHover, kTransect, kViews };
 const char* MotionTypeName(MotionType type);
 MotionType MotionTypeFromName(const std::string& name, const std::string& context);
 

@@ -43,10 +43,11 @@ double PixelGain(const Camera& camera, const Eigen::Vector2d& pixel, const Eigen
 }  // namespace
 
 void RenderOptions::Check(const std::string& context) const {
+  UWS_CHECK(supersample >= 1 && supersample <= 8, context, ": supersample must be 1..8");
   UWS_CHECK(laser_supersample >= 1 && laser_supersample <= 16, context,
             ": laser_supersample must be 1..16");
-  UWS_CHECK(backscatter_step_px >= 1 && backscatter_step_px <= 64, context,
-            ": backscatter_step_px must be 1..64");
+  UWS_CHECK(backscatter_step_px >= 0 && backscatter_step_px <= 64, context,
+            ": backscatter_step_px must be 0 (auto) .. 64");
   UWS_CHECK(backscatter_samples >= 1 && backscatter_samples <= 256, context,
             ": backscatter_samples must be 1..256");
   UWS_CHECK(std::isfinite(max_range_m) && max_range_m > 0, context, ": max_range_m must be > 0");
@@ -66,10 +67,12 @@ void SimConfig::Check() const {
   }
   for (size_t i = 0; i < floods.size(); ++i) floods[i].Check("floods[" + std::to_string(i) + "]");
   ambient.Check("ambient");
+  snow.Check("snow");
   sensor.Check("sensor");
   render.Check("render");
   if (sensor.output == OutputFormat::kBayer) {
-    UWS_CHECK(rig.cameras.front().bayer != "none", "sensor: Bayer output needs a camera with a "
+    UWS_CHECK(rig.cameras.front().bayer != "none",
+              "sensor: Bayer output needs a camera with a "
               "bayer pattern in the rig");
   }
 }
@@ -90,14 +93,15 @@ Renderer::Renderer(SimConfig config) : config_(std::move(config)) {
       const auto ray = cam.BackProject(pixel);
       if (!ray) continue;
       rays_[static_cast<size_t>(gy) * grid_cols + gx] = {ray->origin.cast<float>(),
-                                                          ray->direction.cast<float>()};
+                                                         ray->direction.cast<float>()};
       if (gx >= 1 && gy >= 1 && gx <= width_ && gy <= height_) {
         pixel_gain_[static_cast<size_t>(gy - 1) * width_ + gx - 1] =
             static_cast<float>(PixelGain(cam, pixel, ray->direction));
       }
     }
   });
-  for (const FloodLight& flood : config_.floods) flood_optics_.push_back(MakeOptics(flood.wavelength_nm));
+  for (const FloodLight& flood : config_.floods)
+    flood_optics_.push_back(MakeOptics(flood.wavelength_nm));
   for (const LaserSource& laser : config_.lasers) {
     laser_optics_.push_back(MakeOptics(config_.rig.lasers[laser.rig_laser].wavelength_nm));
   }
@@ -108,7 +112,7 @@ Renderer::Renderer(SimConfig config) : config_(std::move(config)) {
   const double n_water = cam.IsFlatPort() ? cam.port.n_water : 1.0;
   pixel_angle_rad_ = 1.0 / (cam.intrinsics[0] * n_water);
 
-  const int step = config_.render.backscatter_step_px;
+  const int step = BackscatterStep();
   coarse_cols_ = (width_ - 1 + step - 1) / step + 1;
   coarse_rows_ = (height_ - 1 + step - 1) / step + 1;
   coarse_rays_.assign(static_cast<size_t>(coarse_cols_) * coarse_rows_,
@@ -124,13 +128,19 @@ Renderer::Renderer(SimConfig config) : config_(std::move(config)) {
   }
 }
 
+int Renderer::BackscatterStep() const {
+  if (config_.render.backscatter_step_px > 0) return config_.render.backscatter_step_px;
+  return std::max(1, width_ / 80);
+}
+
 Renderer::Optics Renderer::MakeOptics(double wavelength_nm) const {
   const Medium& medium = config_.medium;
   Optics optics;
   optics.wavelength_nm = wavelength_nm;
   optics.attenuation = medium.Attenuation(wavelength_nm);
-  optics.forward = config_.render.forward_scatter ? medium.ForwardTransmissionCoefficient(wavelength_nm)
-                                                  : optics.attenuation;
+  optics.forward = config_.render.forward_scatter
+                       ? medium.ForwardTransmissionCoefficient(wavelength_nm)
+                       : optics.attenuation;
   optics.scattering = medium.Scattering(wavelength_nm);
   optics.response = ChannelResponse(wavelength_nm);
   optics.electrons_per_radiance = config_.sensor.ElectronsPerRadiance(wavelength_nm);
@@ -145,9 +155,10 @@ Rigid3d Renderer::CameraFromLaser(size_t source, double angle_rad) const {
 }
 
 std::vector<Renderer::LaserFrame> Renderer::MakeLaserFrames(const FrameState& state) const {
-  UWS_CHECK(state.laser_angles_rad.empty() || state.laser_angles_rad.size() == config_.lasers.size(),
-            "FrameState: laser_angles_rad must be empty or have one angle per laser (got ",
-            state.laser_angles_rad.size(), " for ", config_.lasers.size(), ")");
+  UWS_CHECK(
+      state.laser_angles_rad.empty() || state.laser_angles_rad.size() == config_.lasers.size(),
+      "FrameState: laser_angles_rad must be empty or have one angle per laser (got ",
+      state.laser_angles_rad.size(), " for ", config_.lasers.size(), ")");
   std::vector<LaserFrame> frames;
   for (size_t i = 0; i < config_.lasers.size(); ++i) {
     const LaserSource& source = config_.lasers[i];
@@ -157,6 +168,7 @@ std::vector<Renderer::LaserFrame> Renderer::MakeLaserFrames(const FrameState& st
     frame.camera_from_laser =
         CameraFromLaser(i, state.laser_angles_rad.empty() ? 0.0 : state.laser_angles_rad[i]);
     frame.laser_from_camera = frame.camera_from_laser.Inverse();
+    frame.laser_R_camera = frame.laser_from_camera.RotationMatrix();
     const Eigen::Quaterniond& q = frame.camera_from_laser.rotation;
     frame.q_wxyz = {q.w(), q.x(), q.y(), q.z()};
     frame.p1 = projector.p1;
@@ -167,11 +179,13 @@ std::vector<Renderer::LaserFrame> Renderer::MakeLaserFrames(const FrameState& st
   return frames;
 }
 
-void Renderer::RayAt(double u, double v, Eigen::Vector3d* origin, Eigen::Vector3d* direction) const {
+void Renderer::RayAt(double u, double v, Eigen::Vector3d* origin,
+                     Eigen::Vector3d* direction) const {
   const int grid_cols = width_ + 2;
   const double gx = std::clamp(u + 1.0, 0.0, static_cast<double>(width_ + 1) - 1e-9);
   const double gy = std::clamp(v + 1.0, 0.0, static_cast<double>(height_ + 1) - 1e-9);
-  const int x0 = std::min(static_cast<int>(gx), width_), y0 = std::min(static_cast<int>(gy), height_);
+  const int x0 = std::min(static_cast<int>(gx), width_),
+            y0 = std::min(static_cast<int>(gy), height_);
   const double fx = gx - x0, fy = gy - y0;
   const PixelRay* r = &rays_[static_cast<size_t>(y0) * grid_cols + x0];
   const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
@@ -186,10 +200,11 @@ void Renderer::RayAt(double u, double v, Eigen::Vector3d* origin, Eigen::Vector3
 }
 
 double Renderer::LaserRadiance(const LaserFrame& laser, const Rigid3d& world_from_camera,
-                               const Eigen::Vector3d& point, const Eigen::Vector3d& normal_to_camera,
+                               const Eigen::Vector3d& point,
+                               const Eigen::Vector3d& normal_to_camera,
                                const Eigen::Vector3d& albedo, SheetPart part) const {
   const LaserSource& source = config_.lasers[laser.source];
-  const Eigen::Vector3d p = laser.laser_from_camera * point;
+  const Eigen::Vector3d p = laser.laser_R_camera * (point - laser.camera_from_laser.translation);
   if (!(p.z() > 0)) return 0.0;
   const double x = p.x() / p.z();
   if (std::abs(x) > laser.tan_half_fan) return 0.0;
@@ -215,7 +230,8 @@ double Renderer::LaserRadiance(const LaserFrame& laser, const Rigid3d& world_fro
   const Eigen::Vector3d beam = laser.camera_from_laser.rotation * (p / range);
   const double cos_incidence = -beam.dot(normal_to_camera);
   if (cos_incidence <= 0) return 0.0;  // lit from the other side
-  if (config_.render.shadows &&
+  // Shadows of the core only: the halo is scattered light, not a ray.
+  if (part == SheetPart::kCore && config_.render.shadows &&
       config_.scene.Occluded(world_from_camera * laser.camera_from_laser.translation,
                              world_from_camera * point)) {
     return 0.0;
@@ -236,25 +252,44 @@ RenderedFrame Renderer::Render(const FrameState& state) const {
   if (poses.empty()) poses.push_back(state.world_from_camera);
   buffers.weight = 1.0 / poses.size();
   for (const Rigid3d& pose : poses) RenderPose(pose, lasers, &buffers);
-  buffers.range *= buffers.weight;
   if (config_.render.forward_scatter) AddForwardScatter(&buffers);
 
   RenderedFrame frame;
-  frame.electrons = buffers.sharp + buffers.blurred + buffers.back;
-  for (int y = 0; y < height_; ++y) {
-    cv::Vec3f* row = frame.electrons.ptr<cv::Vec3f>(y);
+  frame.electrons.create(height_, width_, CV_32FC3);
+  ParallelRows(height_, config_.render.threads, [&](int y) {
+    cv::Vec3f* out = frame.electrons.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* sharp = buffers.sharp.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* blurred = buffers.blurred.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* back = buffers.back.ptr<cv::Vec3f>(y);
     const float* gain = &pixel_gain_[static_cast<size_t>(y) * width_];
-    for (int x = 0; x < width_; ++x) row[x] *= gain[x];
+    for (int x = 0; x < width_; ++x) out[x] = (sharp[x] + blurred[x] + back[x]) * gain[x];
+  });
+  if (config_.snow.per_m3 > 0) {
+    for (const Rigid3d& pose : poses) {
+      AddMarineSnow(pose, lasers, buffers.range, buffers.weight, &frame.electrons);
+    }
   }
   frame.range_m = buffers.range;
-  frame.image = Digitize(frame.electrons, config_.sensor, camera().bayer, state.noise_seed);
+  frame.image = Digitize(frame.electrons, config_.sensor, camera().bayer, state.noise_seed,
+                         config_.render.threads);
   return frame;
 }
 
 void Renderer::RenderPose(const Rigid3d& world_from_camera, const std::vector<LaserFrame>& lasers,
                           Buffers* buffers) const {
-  ParallelRows(height_, config_.render.threads,
-               [&](int y) { RenderRow(y, world_from_camera, lasers, buffers); });
+  const int n = config_.render.supersample;
+  const double pose_weight = buffers->weight;
+  buffers->weight = pose_weight / (n * n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      buffers->sub_offset = n == 1 ? Eigen::Vector2d::Zero()
+                                   : Eigen::Vector2d((i + 0.5) / n - 0.5, (j + 0.5) / n - 0.5);
+      ParallelRows(height_, config_.render.threads,
+                   [&](int y) { RenderRow(y, world_from_camera, lasers, buffers); });
+    }
+  }
+  buffers->weight = pose_weight;
+  buffers->sub_offset.setZero();
   if (config_.render.backscatter && !config_.floods.empty()) {
     AddFloodBackscatter(world_from_camera, buffers);
   }

@@ -25,15 +25,26 @@
 namespace uwscan::sim {
 
 struct RenderOptions {
-  int laser_supersample = 4;      // n x n sub-rays in pixels near a laser line
-  int backscatter_step_px = 4;    // grid step of the flood-light backscatter
-  int backscatter_samples = 16;   // samples along each camera ray
-  double max_range_m = 30.0;      // open water beyond
-  bool forward_scatter = true;    // E_f: blur growing with range and turbidity
-  bool backscatter = true;        // E_b
+  int supersample = 1;           // n x n camera rays per pixel (textures are box-filtered anyway)
+  int laser_supersample = 4;     // n x n sub-rays in pixels near a laser line
+  int backscatter_step_px = 0;   // grid step of the flood-light backscatter (0: width / 80)
+  int backscatter_samples = 12;  // samples along each camera ray
+  double max_range_m = 30.0;     // open water beyond
+  bool forward_scatter = true;   // E_f: blur growing with range and turbidity
+  bool backscatter = true;       // E_b
   bool shadows = true;
   int threads = 2;
 
+  void Check(const std::string& context) const;
+};
+
+// Marine snow: world-fixed particles (0.3–1.5 mm, albedo 0.8) lit by the
+// floods and lasers, drawn as defocused blobs in front of the scene.
+struct MarineSnow {
+  double per_m3 = 0.0;       // particle density
+  double max_range_m = 3.0;  // drawn up to this distance from the camera
+  double focus_m = 2.0;      // focus distance (in water) for the defocus blur
+  uint64_t seed = 1;
   void Check(const std::string& context) const;
 };
 
@@ -47,6 +58,7 @@ struct SimConfig {
   Ambient ambient;
   SensorOptions sensor;
   RenderOptions render;
+  MarineSnow snow;
 
   void Check() const;
 };
@@ -119,13 +131,17 @@ class Renderer {
                        const Eigen::Vector3d& albedo, SheetPart part) const;
   void AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* buffers) const;
   void AddForwardScatter(Buffers* buffers) const;
+  // Adds marine snow seen from one pose to `electrons` (after the pixel gain).
+  void AddMarineSnow(const Rigid3d& world_from_camera, const std::vector<LaserFrame>& lasers,
+                     const cv::Mat& range_m, double weight, cv::Mat* electrons) const;
   std::vector<LaserFrame> MakeLaserFrames(const FrameState& state) const;
+  int BackscatterStep() const;
 
   SimConfig config_;
   int width_ = 0, height_ = 0;
-  std::vector<PixelRay> rays_;      // (width + 2) x (height + 2), pixel centres -1 .. width
-  std::vector<float> pixel_gain_;   // Fresnel transmission x cos^4 x (n_air / n_water)^2
-  double pixel_angle_rad_ = 0.0;    // angular size of a pixel in water
+  std::vector<PixelRay> rays_;     // (width + 2) x (height + 2), pixel centres -1 .. width
+  std::vector<float> pixel_gain_;  // Fresnel transmission x cos^4 x (n_air / n_water)^2
+  double pixel_angle_rad_ = 0.0;   // angular size of a pixel in water
   int coarse_cols_ = 0, coarse_rows_ = 0;
   std::vector<PixelRay> coarse_rays_;
   std::vector<Optics> flood_optics_, laser_optics_;

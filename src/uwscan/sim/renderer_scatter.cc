@@ -14,6 +14,7 @@ void Renderer::AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* bu
   const Medium& medium = config_.medium;
   const RenderOptions& options = config_.render;
   const int samples = options.backscatter_samples;
+  const int step = BackscatterStep();
   cv::Mat coarse = cv::Mat::zeros(coarse_rows_, coarse_cols_, CV_32FC3);
   const Eigen::Matrix3d world_R_camera = world_from_camera.RotationMatrix();
 
@@ -21,9 +22,10 @@ void Renderer::AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* bu
     for (int i = 0; i < coarse_cols_; ++i) {
       const PixelRay& ray = coarse_rays_[static_cast<size_t>(j) * coarse_cols_ + i];
       if (ray.direction.squaredNorm() == 0) continue;
-      const Eigen::Vector3d origin = ray.origin.cast<double>(), direction = ray.direction.cast<double>();
-      const auto hit = config_.scene.Intersect(world_from_camera * origin, world_R_camera * direction,
-                                               1e-9, options.max_range_m);
+      const Eigen::Vector3d origin = ray.origin.cast<double>(),
+                            direction = ray.direction.cast<double>();
+      const auto hit = config_.scene.Intersect(
+          world_from_camera * origin, world_R_camera * direction, 1e-9, options.max_range_m);
       const double length = hit ? hit->lambda : options.max_range_m;
       Eigen::Vector3d electrons = Eigen::Vector3d::Zero();
       for (size_t f = 0; f < config_.floods.size(); ++f) {
@@ -40,7 +42,8 @@ void Renderer::AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* bu
           const double u = (n + 0.5) / samples;
           const double s = length * u * u;
           const double ds = 2 * length * u / samples;
-          const Eigen::Vector3d to_sample = origin + s * direction - flood.camera_from_light.translation;
+          const Eigen::Vector3d to_sample =
+              origin + s * direction - flood.camera_from_light.translation;
           const double distance = std::max(to_sample.norm(), 1e-3);
           const Eigen::Vector3d unit = to_sample / distance;
           const double intensity = flood.Intensity(axis.dot(unit));
@@ -54,7 +57,6 @@ void Renderer::AddFloodBackscatter(const Rigid3d& world_from_camera, Buffers* bu
     }
   });
 
-  const int step = options.backscatter_step_px;
   const float weight = static_cast<float>(buffers->weight);
   for (int y = 0; y < height_; ++y) {
     const int j0 = std::min(y / step, coarse_rows_ - 2 < 0 ? 0 : coarse_rows_ - 2);
@@ -85,10 +87,12 @@ cv::Mat BlurAtSigma(const cv::Mat& image, double sigma) {
     return out;
   }
   cv::Mat small, blurred, out;
-  cv::resize(image, small, cv::Size((image.cols + factor - 1) / factor, (image.rows + factor - 1) / factor),
-             0, 0, cv::INTER_AREA);
+  cv::resize(image, small,
+             cv::Size((image.cols + factor - 1) / factor, (image.rows + factor - 1) / factor), 0, 0,
+             cv::INTER_AREA);
   // Box averaging over `factor` px adds variance factor^2 / 12.
-  const double residual = std::sqrt(std::max(sigma * sigma - factor * factor / 12.0, 0.25 * factor * factor));
+  const double residual =
+      std::sqrt(std::max(sigma * sigma - factor * factor / 12.0, 0.25 * factor * factor));
   cv::GaussianBlur(small, blurred, cv::Size(0, 0), residual / factor, residual / factor,
                    cv::BORDER_REFLECT);
   cv::resize(blurred, out, image.size(), 0, 0, cv::INTER_LINEAR);
@@ -123,21 +127,23 @@ void Renderer::AddForwardScatter(Buffers* buffers) const {
     }
   }
   sigma_min = std::max(sigma_min, 0.5);
-  const int levels = 1 + static_cast<int>(std::ceil(std::log2(std::max(sigma_max / sigma_min, 1.0))));
+  const int levels =
+      1 + static_cast<int>(std::ceil(std::log2(std::max(sigma_max / sigma_min, 1.0))));
   std::vector<cv::Mat> blurred(levels);
-  for (int l = 0; l < levels; ++l) blurred[l] = BlurAtSigma(buffers->blurred, sigma_min * std::ldexp(1.0, l));
-  for (int y = 0; y < height_; ++y) {
+  for (int l = 0; l < levels; ++l)
+    blurred[l] = BlurAtSigma(buffers->blurred, sigma_min * std::ldexp(1.0, l));
+  ParallelRows(height_, config_.render.threads, [&](int y) {
     const float* s = sigma.ptr<float>(y);
     cv::Vec3f* out = buffers->sharp.ptr<cv::Vec3f>(y);
     for (int x = 0; x < width_; ++x) {
       const double level = std::clamp(std::log2(std::max<double>(s[x], sigma_min) / sigma_min), 0.0,
-                                       static_cast<double>(levels - 1));
+                                      static_cast<double>(levels - 1));
       const int l0 = std::min(static_cast<int>(level), levels - 1);
       const int l1 = std::min(l0 + 1, levels - 1);
       const float w = static_cast<float>(level - l0);
       out[x] += (1 - w) * blurred[l0].at<cv::Vec3f>(y, x) + w * blurred[l1].at<cv::Vec3f>(y, x);
     }
-  }
+  });
   buffers->blurred.setTo(0);
 }
 

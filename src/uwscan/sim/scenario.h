@@ -33,6 +33,12 @@ struct ScenarioOptions {
   std::optional<OutputFormat> output;
   std::optional<int> bits;
   int threads = 2;
+  // aquarium (§6.1): gap between lens and window (1, 10, 20 mm in the
+  // thesis) and window tilt; laser-tilt (§6.2): laser tilt behind the window.
+  std::optional<double> port_gap_mm, port_tilt_deg, laser_tilt_deg;
+  int motion_blur_samples = 1;    // poses averaged over the exposure
+  int supersample = 1;            // camera rays per pixel (n x n)
+  double marine_snow_per_m3 = 0;  // particles per cubic metre (0 = none)
 
   void Check() const;  // throws uwscan::Error naming the option
 };
@@ -51,10 +57,17 @@ struct Scenario {
   MotionOptions motion;
   int frames = 10;
   double frame_rate_hz = 10.0;
+  // Motion blur: poses sampled over the exposure (1 = none).
+  int motion_blur_samples = 1;
   // Servo sweep of every laser source, linear from start to end over the
   // sequence (zero for lasers without servo).
   double servo_start_rad = 0.0, servo_end_rad = 0.0;
   std::vector<CalibrationSet> calibration;
+  // Explicit per-frame poses (motion type kViews); frames = views.size().
+  std::vector<Rigid3d> views;
+  // laser-tilt: the tilt and how far the eq. 4.30 model is from the exactly
+  // refracted sheet (informational, written as a comment in scene.yaml).
+  double laser_tilt_rad = 0.0, laser_port_fit_rms_m = 0.0;
 
   double TimeOf(int frame) const { return frame / frame_rate_hz; }
   double ServoAngle(int frame) const;

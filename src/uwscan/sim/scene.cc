@@ -40,9 +40,12 @@ std::optional<double> QuadraticRoot(double a, double b, double c, double lo, dou
 
 const char* SurfaceTypeName(SurfaceType type) {
   switch (type) {
-    case SurfaceType::kPlane: return "plane";
-    case SurfaceType::kCylinder: return "cylinder";
-    case SurfaceType::kHull: return "hull";
+    case SurfaceType::kPlane:
+      return "plane";
+    case SurfaceType::kCylinder:
+      return "cylinder";
+    case SurfaceType::kHull:
+      return "hull";
   }
   return "plane";
 }
@@ -68,9 +71,8 @@ std::optional<double> Surface::IntersectLocal(const Eigen::Vector3d& o, const Ei
       const double a = d.x() * d.x() + d.y() * d.y();
       const double b = 2 * (o.x() * d.x() + o.y() * d.y());
       const double c = o.x() * o.x() + o.y() * o.y() - radius * radius;
-      return QuadraticRoot(a, b, c, lo, hi, [&](double l) {
-        return std::abs(o.z() + l * d.z()) <= 0.5 * length;
-      });
+      return QuadraticRoot(a, b, c, lo, hi,
+                           [&](double l) { return std::abs(o.z() + l * d.z()) <= 0.5 * length; });
     }
     case SurfaceType::kHull: {
       // z = k/2 x^2  ->  k/2 (o_x + l d_x)^2 - (o_z + l d_z) = 0
@@ -89,17 +91,22 @@ std::optional<double> Surface::IntersectLocal(const Eigen::Vector3d& o, const Ei
 
 Eigen::Vector3d Surface::NormalLocal(const Eigen::Vector3d& p) const {
   switch (type) {
-    case SurfaceType::kPlane: return Eigen::Vector3d::UnitZ();
-    case SurfaceType::kCylinder: return Eigen::Vector3d(p.x(), p.y(), 0).normalized();
-    case SurfaceType::kHull: return Eigen::Vector3d(-curvature * p.x(), 0, 1).normalized();
+    case SurfaceType::kPlane:
+      return Eigen::Vector3d::UnitZ();
+    case SurfaceType::kCylinder:
+      return Eigen::Vector3d(p.x(), p.y(), 0).normalized();
+    case SurfaceType::kHull:
+      return Eigen::Vector3d(-curvature * p.x(), 0, 1).normalized();
   }
   return Eigen::Vector3d::UnitZ();
 }
 
 Eigen::Vector2d Surface::TextureCoordinates(const Eigen::Vector3d& p) const {
   switch (type) {
-    case SurfaceType::kPlane: return p.head<2>();
-    case SurfaceType::kCylinder: return {radius * std::atan2(p.y(), p.x()), p.z()};
+    case SurfaceType::kPlane:
+      return p.head<2>();
+    case SurfaceType::kCylinder:
+      return {radius * std::atan2(p.y(), p.x()), p.z()};
     case SurfaceType::kHull: {
       // Arc length of z = k/2 x^2 from 0 to x.
       const double k = curvature, x = p.x();
@@ -113,9 +120,12 @@ Eigen::Vector2d Surface::TextureCoordinates(const Eigen::Vector3d& p) const {
 
 double Surface::ImplicitResidual(const Eigen::Vector3d& p) const {
   switch (type) {
-    case SurfaceType::kPlane: return p.z();
-    case SurfaceType::kCylinder: return std::hypot(p.x(), p.y()) - radius;
-    case SurfaceType::kHull: return p.z() - 0.5 * curvature * p.x() * p.x();
+    case SurfaceType::kPlane:
+      return p.z();
+    case SurfaceType::kCylinder:
+      return std::hypot(p.x(), p.y()) - radius;
+    case SurfaceType::kHull:
+      return p.z() - 0.5 * curvature * p.x() * p.x();
   }
   return 0.0;
 }
@@ -146,8 +156,10 @@ std::optional<Hit> Scene::Intersect(const Eigen::Vector3d& origin_world,
   Eigen::Vector3d best_local = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < surfaces.size(); ++i) {
     const Surface& surface = surfaces[i];
-    const Eigen::Matrix3d surface_R_world = surface.SurfaceRWorld();
-    const Eigen::Vector3d o = surface_R_world * (origin_world - surface.world_from_surface.translation);
+    Eigen::Matrix3d stale;
+    const Eigen::Matrix3d& surface_R_world = surface.CachedRotation(&stale);
+    const Eigen::Vector3d o =
+        surface_R_world * (origin_world - surface.world_from_surface.translation);
     const Eigen::Vector3d d = surface_R_world * direction_world;
     const auto lambda = surface.IntersectLocal(o, d, min_lambda, hi);
     if (!lambda) continue;
@@ -176,9 +188,12 @@ bool Scene::Occluded(const Eigen::Vector3d& from_world, const Eigen::Vector3d& t
   for (size_t i = 0; i < surfaces.size(); ++i) {
     const Surface& surface = surfaces[i];
     if (static_cast<int>(i) == skip_surface && surface.type == SurfaceType::kPlane) continue;
-    const Eigen::Matrix3d surface_R_world = surface.SurfaceRWorld();
-    const Eigen::Vector3d o = surface_R_world * (from_world - surface.world_from_surface.translation);
-    if (surface.IntersectLocal(o, surface_R_world * direction, epsilon, length - epsilon)) return true;
+    Eigen::Matrix3d stale;
+    const Eigen::Matrix3d& surface_R_world = surface.CachedRotation(&stale);
+    const Eigen::Vector3d o =
+        surface_R_world * (from_world - surface.world_from_surface.translation);
+    if (surface.IntersectLocal(o, surface_R_world * direction, epsilon, length - epsilon))
+      return true;
   }
   return false;
 }
@@ -190,8 +205,14 @@ void Surface::Prepare() {
 }
 
 Eigen::Matrix3d Surface::SurfaceRWorld() const {
+  Eigen::Matrix3d stale;
+  return CachedRotation(&stale);
+}
+
+const Eigen::Matrix3d& Surface::CachedRotation(Eigen::Matrix3d* stale) const {
   if (cached_rotation_.coeffs() == world_from_surface.rotation.coeffs()) return surface_R_world_;
-  return world_from_surface.RotationMatrix().transpose();
+  *stale = world_from_surface.RotationMatrix().transpose();
+  return *stale;
 }
 
 void Scene::Prepare() {

@@ -37,8 +37,9 @@ struct Surface {
   Texture texture;
 
   // Ray (surface frame) -> smallest lambda in (min_lambda, max_lambda).
-  std::optional<double> IntersectLocal(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
-                                       double min_lambda, double max_lambda) const;
+  std::optional<double> IntersectLocal(const Eigen::Vector3d& origin,
+                                       const Eigen::Vector3d& direction, double min_lambda,
+                                       double max_lambda) const;
   // Outward unit normal and texture coordinates at a point on the surface
   // (surface frame).
   Eigen::Vector3d NormalLocal(const Eigen::Vector3d& point) const;
@@ -51,6 +52,8 @@ struct Surface {
   // detected and bypassed, only costing speed).
   void Prepare();
   Eigen::Matrix3d SurfaceRWorld() const;
+  // The cached matrix, or `stale` filled in when the pose changed since.
+  const Eigen::Matrix3d& CachedRotation(Eigen::Matrix3d* stale) const;
 
  private:
   Eigen::Matrix3d surface_R_world_ = Eigen::Matrix3d::Identity();

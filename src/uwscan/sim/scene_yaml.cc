@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/io/tum.h"
 #include "uwscan/sim/strict_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
@@ -55,17 +56,26 @@ std::string SceneToYaml(const Scenario& s) {
   out << "format: " << kFormat << "\n"
       << "# World frame: z up (the sea floor is z = 0 where there is one). Poses are\n"
       << "# a_from_b {q: [w, x, y, z], t: [x, y, z]} in metres; see docs/simulator.md.\n"
+      << (s.motion.type == MotionType::kViews
+              ? "# motion 'views': the per-frame poses are those of groundtruth.tum\n"
+              : "")
       << "scenario: " << s.name << "\n"
       << "seed: " << s.seed << "\n"
+      << "# laser behind its own port tilted by tilt_rad (laser-tilt); rig.yaml holds the\n"
+      << "# eq. 4.30 model fitted to the exactly refracted sheet, fit_rms_m its distance\n"
+      << "laser_port: {tilt_rad: " << YamlNumber(s.laser_tilt_rad)
+      << ", fit_rms_m: " << YamlNumber(s.laser_port_fit_rms_m) << "}\n"
       << "sequence:\n"
       << "  frames: " << s.frames << "\n"
       << "  frame_rate_hz: " << YamlNumber(s.frame_rate_hz) << "\n"
+      << "  motion_blur_samples: " << s.motion_blur_samples << "\n"
       << "surfaces:\n";
   for (const Surface& surface : c.scene.surfaces) {
     out << "  - name: " << surface.name << "\n"
         << "    type: " << SurfaceTypeName(surface.type) << "\n"
         << "    world_from_surface: " << YamlPose(surface.world_from_surface) << "\n"
-        << "    size: [" << YamlNumber(surface.size_x) << ", " << YamlNumber(surface.size_y) << "]\n"
+        << "    size: [" << YamlNumber(surface.size_x) << ", " << YamlNumber(surface.size_y)
+        << "]\n"
         << "    radius: " << YamlNumber(surface.radius) << "\n"
         << "    length: " << YamlNumber(surface.length) << "\n"
         << "    curvature: " << YamlNumber(surface.curvature) << "\n";
@@ -88,9 +98,11 @@ std::string SceneToYaml(const Scenario& s) {
         << "    fan_angle_rad: " << YamlNumber(l.fan_angle_rad) << "\n"
         << "    width_m: " << YamlNumber(l.width_m) << "\n"
         << "    divergence_rad: " << YamlNumber(l.divergence_rad) << "\n"
-        << "    # camera_from_laser(angle) = camera_from_laser(rig.yaml) * R(axis, angle) about pivot\n"
+        << "    # camera_from_laser(angle) = camera_from_laser(rig.yaml) * R(axis, angle) about "
+           "pivot\n"
         << "    servo: {enabled: " << Bool(l.servo) << ", axis: " << YamlVector(l.servo_axis)
-        << ", pivot: " << YamlVector(l.servo_pivot) << ", start_rad: " << YamlNumber(s.servo_start_rad)
+        << ", pivot: " << YamlVector(l.servo_pivot)
+        << ", start_rad: " << YamlNumber(s.servo_start_rad)
         << ", end_rad: " << YamlNumber(s.servo_end_rad) << "}\n";
   }
   out << "floods:" << (c.floods.empty() ? " []\n" : "\n");
@@ -102,6 +114,9 @@ std::string SceneToYaml(const Scenario& s) {
         << "    exponent: " << YamlNumber(f.exponent) << "\n";
   }
   out << "ambient: {irradiance_rgb: " << YamlVector(c.ambient.irradiance_rgb) << "}\n";
+  out << "snow: {per_m3: " << YamlNumber(c.snow.per_m3)
+      << ", max_range_m: " << YamlNumber(c.snow.max_range_m)
+      << ", focus_m: " << YamlNumber(c.snow.focus_m) << ", seed: " << c.snow.seed << "}\n";
   const SensorOptions& n = c.sensor;
   out << "sensor:\n"
       << "  exposure_s: " << YamlNumber(n.exposure_s) << "\n"
@@ -116,6 +131,7 @@ std::string SceneToYaml(const Scenario& s) {
       << "  noise: " << Bool(n.noise) << "\n";
   const RenderOptions& r = c.render;
   out << "render:\n"
+      << "  supersample: " << r.supersample << "\n"
       << "  laser_supersample: " << r.laser_supersample << "\n"
       << "  backscatter_step_px: " << r.backscatter_step_px << "\n"
       << "  backscatter_samples: " << r.backscatter_samples << "\n"
@@ -152,11 +168,17 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
   Scenario s;
   s.name = top.String("scenario");
   s.seed = top.Unsigned("seed");
+  StrictMap laser_port = top.Child("laser_port");
+  s.laser_tilt_rad = laser_port.Number("tilt_rad");
+  s.laser_port_fit_rms_m = laser_port.Number("fit_rms_m");
+  laser_port.CheckNoUnknownKeys();
   StrictMap sequence = top.Child("sequence");
   s.frames = sequence.Integer("frames");
   s.frame_rate_hz = sequence.Number("frame_rate_hz");
+  s.motion_blur_samples = sequence.Integer("motion_blur_samples");
   sequence.CheckNoUnknownKeys();
-  UWS_CHECK(s.frames >= 1 && s.frame_rate_hz > 0, source, ": sequence needs frames >= 1 and frame_rate_hz > 0");
+  UWS_CHECK(s.frames >= 1 && s.frame_rate_hz > 0 && s.motion_blur_samples >= 1, source,
+            ": sequence needs frames >= 1, frame_rate_hz > 0 and motion_blur_samples >= 1");
 
   const YAML::Node surfaces = top.Get("surfaces");
   UWS_CHECK(surfaces.IsSequence(), source, ": 'surfaces' must be a list");
@@ -198,8 +220,8 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
     for (size_t k = 0; k < rig.lasers.size(); ++k) {
       if (rig.lasers[k].name == rig_laser) laser.rig_laser = static_cast<int>(k);
     }
-    UWS_CHECK(laser.rig_laser >= 0, source, ": '", m.Name("rig_laser"), "' names laser '", rig_laser,
-              "' which the rig does not have");
+    UWS_CHECK(laser.rig_laser >= 0, source, ": '", m.Name("rig_laser"), "' names laser '",
+              rig_laser, "' which the rig does not have");
     laser.power_w = m.Number("power_w");
     laser.fan_angle_rad = m.Number("fan_angle_rad");
     laser.width_m = m.Number("width_m");
@@ -233,6 +255,13 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
   s.config.ambient.irradiance_rgb = ambient.Vector3("irradiance_rgb");
   ambient.CheckNoUnknownKeys();
 
+  StrictMap snow = top.Child("snow");
+  s.config.snow.per_m3 = snow.Number("per_m3");
+  s.config.snow.max_range_m = snow.Number("max_range_m");
+  s.config.snow.focus_m = snow.Number("focus_m");
+  s.config.snow.seed = snow.Unsigned("seed");
+  snow.CheckNoUnknownKeys();
+
   StrictMap sensor = top.Child("sensor");
   SensorOptions& n = s.config.sensor;
   n.exposure_s = sensor.Number("exposure_s");
@@ -249,6 +278,7 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
 
   StrictMap render = top.Child("render");
   RenderOptions& r = s.config.render;
+  r.supersample = render.Integer("supersample");
   r.laser_supersample = render.Integer("laser_supersample");
   r.backscatter_step_px = render.Integer("backscatter_step_px");
   r.backscatter_samples = render.Integer("backscatter_samples");
@@ -289,7 +319,15 @@ Scenario ReadSceneYaml(const std::filesystem::path& path, const Rig& rig) {
 }
 
 Scenario LoadDatasetScenario(const std::filesystem::path& dataset) {
-  return ReadSceneYaml(dataset / "scene.yaml", ReadRigYaml(dataset / "rig.yaml"));
+  Scenario scenario = ReadSceneYaml(dataset / "scene.yaml", ReadRigYaml(dataset / "rig.yaml"));
+  if (scenario.motion.type == MotionType::kViews) {
+    for (const auto& pose : ReadTum(dataset / "groundtruth.tum"))
+      scenario.views.push_back(pose.world_from_camera);
+    UWS_CHECK(static_cast<int>(scenario.views.size()) == scenario.frames,
+              (dataset / "groundtruth.tum").string(), ": ", scenario.views.size(),
+              " poses but scene.yaml has ", scenario.frames, " frames");
+  }
+  return scenario;
 }
 
 }  // namespace uwscan::sim

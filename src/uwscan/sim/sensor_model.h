@@ -16,14 +16,14 @@ const char* OutputFormatName(OutputFormat format);
 OutputFormat OutputFormatFromName(const std::string& name);  // throws uwscan::Error
 
 struct SensorOptions {
-  double exposure_s = 0.00694;     // thesis §6.4: 144 Hz, 6.94 ms
+  double exposure_s = 0.00694;  // thesis §6.4: 144 Hz, 6.94 ms
   double f_number = 2.8;
   double pixel_pitch_m = 3.75e-6;  // Quad-VGA sensor at 1280 px width
   double quantum_efficiency = 0.5;
   double full_well_e = 10000.0;
   double read_noise_e = 5.0;
-  double gain = 1.0;               // analog gain: full scale at full_well_e / gain
-  int bits = 8;                    // 8 | 12 | 16 (12 is stored MSB-aligned in 16 bit)
+  double gain = 1.0;  // analog gain: full scale at full_well_e / gain
+  int bits = 8;       // 8 | 12 | 16 (12 is stored MSB-aligned in 16 bit)
   OutputFormat output = OutputFormat::kBayer;
   bool noise = true;
 
@@ -40,7 +40,7 @@ struct SensorOptions {
 // channels. Noise streams are seeded from (seed, row): the result does not
 // depend on threads.
 cv::Mat Digitize(const cv::Mat& electrons_rgb, const SensorOptions& options,
-                 const std::string& bayer, uint64_t seed);
+                 const std::string& bayer, uint64_t seed, int threads = 1);
 
 // Channel (0 = R, 1 = G, 2 = B) sampled at pixel (x, y) of a Bayer pattern.
 int BayerChannel(const std::string& bayer, int x, int y);

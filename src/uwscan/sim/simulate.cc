@@ -105,8 +105,9 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
       frames.Add({i, scenario.TimeOf(i), file, angle});
       truth.Add({scenario.TimeOf(i), state.world_from_camera});
       for (const LaserPoint& point : renderer.LaserGroundTruth(state)) {
-        laser_truth.Add({i, point.laser, point.pixel.x(), point.pixel.y(), point.point_in_camera.x(),
-                         point.point_in_camera.y(), point.point_in_camera.z()});
+        laser_truth.Add({i, point.laser, point.pixel.x(), point.pixel.y(),
+                         point.point_in_camera.x(), point.point_in_camera.y(),
+                         point.point_in_camera.z()});
         ++result.laser_points;
       }
       progress.Update(++done);

@@ -74,9 +74,12 @@ constexpr double kOctaveAmplitude[12] = {1.0,      0.7,       0.49,       0.343,
 
 const char* TextureName(TextureType type) {
   switch (type) {
-    case TextureType::kUniform: return "uniform";
-    case TextureType::kNatural: return "natural";
-    case TextureType::kCheckerboard: return "checkerboard";
+    case TextureType::kUniform:
+      return "uniform";
+    case TextureType::kNatural:
+      return "natural";
+    case TextureType::kCheckerboard:
+      return "checkerboard";
   }
   return "uniform";
 }
@@ -99,31 +102,30 @@ Eigen::Vector3d Texture::Albedo(double s, double t, double footprint_m) const {
       const double w = footprint_m / scale_m;
       const int nx = squares_x, ny = squares_y;
       const double dark_share = 0.5 * (1.0 + FilteredCells(x, y, w, [nx, ny](int64_t i, int64_t j) {
-        if (i < 0 || j < 0 || i >= nx || j >= ny) return -1.0;
-        return ((i + j) % 2 == 0) ? 1.0 : -1.0;
-      }));
+                                         if (i < 0 || j < 0 || i >= nx || j >= ny) return -1.0;
+                                         return ((i + j) % 2 == 0) ? 1.0 : -1.0;
+                                       }));
       return albedo + dark_share * (albedo_dark - albedo);
     }
     case TextureType::kNatural: {
+      // Every octave counts in the normalisation (faded ones with mean 0).
       double variation = 0.0, total = 0.0;
+      for (int k = 0; k < octaves; ++k) total += kOctaveAmplitude[k];
+      const bool cached = octaves_.size() == static_cast<size_t>(octaves) &&
+                          prepared_seed_ == seed && prepared_scale_m_ == scale_m;
       for (int k = 0; k < octaves; ++k) {
         const double cells_per_footprint = footprint_m * std::ldexp(1.0, k) / scale_m;
-        if (cells_per_footprint >= 2.0) {  // faded to its mean
-          total += kOctaveAmplitude[k];
-          continue;
-        }
-        const Octave o = octaves_.size() == static_cast<size_t>(octaves) && prepared_seed_ == seed &&
-                                 prepared_scale_m_ == scale_m
-                             ? octaves_[k]
-                             : MakeOctave(k);
+        if (cells_per_footprint >= 2.0) break;  // this and all finer octaves faded to their mean
+        Octave made;
+        if (!cached) made = MakeOctave(k);
+        const Octave& o = cached ? octaves_[k] : made;
         const double u = (o.cos_angle * s - o.sin_angle * t) / o.cell_m + o.shift_u;
         const double v = (o.sin_angle * s + o.cos_angle * t) / o.cell_m + o.shift_v;
         const uint64_t octave_seed = o.seed;
-        variation += o.amplitude * FilteredCells(u, v, footprint_m / o.cell_m,
-                                                 [octave_seed](int64_t i, int64_t j) {
-                                                   return CellValue(octave_seed, i, j);
-                                                 });
-        total += o.amplitude;
+        variation += o.amplitude *
+                     FilteredCells(u, v, cells_per_footprint, [octave_seed](int64_t i, int64_t j) {
+                       return CellValue(octave_seed, i, j);
+                     });
       }
       const double factor = std::max(0.0, 1.0 + contrast * 1.7 * variation / total);
       return albedo * factor;
@@ -135,8 +137,13 @@ Eigen::Vector3d Texture::Albedo(double s, double t, double footprint_m) const {
 Texture::Octave Texture::MakeOctave(int k) const {
   // Each octave rotated and shifted so that the grids do not align.
   const double angle = 0.7 * (k + 1) + 0.3 * CellValue(seed, k, -1);
-  return Octave{std::cos(angle), std::sin(angle), 17.3 * k, -9.1 * k, scale_m * std::ldexp(1.0, -k),
-                kOctaveAmplitude[k], Mix(seed + 0x1234567ULL * (k + 1))};
+  return Octave{std::cos(angle),
+                std::sin(angle),
+                17.3 * k,
+                -9.1 * k,
+                scale_m * std::ldexp(1.0, -k),
+                kOctaveAmplitude[k],
+                Mix(seed + 0x1234567ULL * (k + 1))};
 }
 
 void Texture::Prepare() {

@@ -20,12 +20,12 @@ TextureType TextureFromName(const std::string& name, const std::string& context)
 
 struct Texture {
   TextureType type = TextureType::kUniform;
-  Eigen::Vector3d albedo = Eigen::Vector3d(0.5, 0.5, 0.5);  // mean (R, G, B), 0..1
+  Eigen::Vector3d albedo = Eigen::Vector3d(0.5, 0.5, 0.5);          // mean (R, G, B), 0..1
   Eigen::Vector3d albedo_dark = Eigen::Vector3d(0.05, 0.05, 0.05);  // checkerboard dark squares
-  double contrast = 0.6;   // natural: relative amplitude of the variation
-  double scale_m = 0.4;    // natural: largest cell size; checkerboard: square size
-  int octaves = 6;         // natural
-  uint64_t seed = 1;       // natural
+  double contrast = 0.6;  // natural: relative amplitude of the variation
+  double scale_m = 0.4;   // natural: largest cell size; checkerboard: square size
+  int octaves = 6;        // natural
+  uint64_t seed = 1;      // natural
   // Checkerboard: squares in x and y; the board covers
   // [-nx/2, nx/2] x [-ny/2, ny/2] squares around the surface origin and a
   // light margin around it.

@@ -37,7 +37,8 @@ void ProgressBar::Draw(long done) {
   constexpr int kWidth = 30;
   const double fraction = std::clamp(static_cast<double>(done) / total_, 0.0, 1.0);
   const int filled = static_cast<int>(fraction * kWidth);
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double rate = elapsed > 0 ? done / elapsed : 0.0;
   std::fprintf(stderr, "\r%s [%.*s%*s] %ld/%ld %.1f/s ", label_.c_str(), filled,
                "##############################", kWidth - filled, "", done, total_, rate);

@@ -1,0 +1,239 @@
+// Scenarios: calibration image sets of §6.1 are usable by OpenCV's
+// checkerboard detector and agree with their rig; the tilted laser of §6.2
+// bends as the thesis describes; scene.yaml round-trips and is strict; the
+// water presets are Petzold's measured waters.
+#include "uwscan/sim/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "uwscan/sim/laser_port.h"
+#include "uwscan/sim/scene_yaml.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan::sim {
+namespace {
+
+TEST(ScenarioTest, AquariumCheckerboardsAreDetectedWhereTheirRigProjectsThem) {
+  ScenarioOptions options;
+  options.width = 640;
+  options.height = 480;
+  options.frames = 2;
+  options.output = OutputFormat::kRgb;
+  const Scenario scenario = MakeScenario("aquarium", options);
+  ASSERT_EQ(scenario.calibration.size(), 2u);
+  for (const CalibrationSet& set : scenario.calibration) {
+    const Camera& camera = set.config.rig.cameras[0];
+    EXPECT_EQ(camera.IsFlatPort(), set.name == "water") << set.name;
+    const Renderer renderer(set.config);
+    const Texture& board = set.config.scene.surfaces[0].texture;
+    const cv::Size pattern(board.squares_x - 1, board.squares_y - 1);
+    for (size_t v = 0; v < set.views.size(); ++v) {
+      cv::Mat gray;
+      cv::cvtColor(renderer.Render(set.views[v]).image, gray, cv::COLOR_BGR2GRAY);
+      std::vector<cv::Point2f> corners;
+      ASSERT_TRUE(cv::findChessboardCornersSB(gray, pattern, corners, cv::CALIB_CB_ACCURACY))
+          << set.name << " view " << v;
+      // Match each detection to the nearest projected true corner.
+      const Rigid3d camera_from_world = set.views[v].world_from_camera.Inverse();
+      double worst = 0, sum = 0;
+      for (const auto& corner : corners) {
+        double best = 1e9;
+        for (int j = 1; j < board.squares_y; ++j) {
+          for (int i = 1; i < board.squares_x; ++i) {
+            const Eigen::Vector3d local((i - 0.5 * board.squares_x) * board.scale_m,
+                                        (j - 0.5 * board.squares_y) * board.scale_m, 0);
+            const auto pixel = camera.Project(camera_from_world * local);
+            if (pixel)
+              best = std::min(best, std::hypot(pixel->x() - corner.x, pixel->y() - corner.y));
+          }
+        }
+        worst = std::max(worst, best);
+        sum += best;
+      }
+      EXPECT_LT(worst, 0.5) << set.name << " view " << v;
+      EXPECT_LT(sum / corners.size(), 0.15) << set.name << " view " << v;
+    }
+  }
+}
+
+TEST(ScenarioTest, TiltedLaserPortBendsTheSheetMoreWithTilt) {
+  // The bare laser's port tilted about the line direction (§4.3, §6.2).
+  auto fit_at = [](double tilt_deg) {
+    const double t = tilt_deg * M_PI / 180;
+    FlatPort port;
+    port.normal = Eigen::Vector3d(0, std::sin(t), std::cos(t));
+    port.d_air = 0.01;
+    port.d_glass = 0.008;
+    port.n_glass = 1.52;
+    port.n_water = 1.333;
+    return FitLaserBehindPort(port, 0.8, 0.2, 0.6);
+  };
+  const LaserPortFit straight = fit_at(0), five = fit_at(5), ten = fit_at(10);
+  EXPECT_LT(std::abs(straight.p1), 1e-9);  // orthogonal: the sheet stays a plane
+  EXPECT_LT(straight.max_m, 1e-9);
+  EXPECT_GT(std::abs(five.p1), 0.01);
+  EXPECT_GT(std::abs(ten.p1), 1.8 * std::abs(five.p1));
+  // The eq. 4.30 cone describes the refracted sheet to micrometres.
+  EXPECT_LT(ten.rms_m, 2e-5);
+
+  ScenarioOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.laser_tilt_deg = 5;
+  const Scenario scenario = MakeScenario("laser-tilt", options);
+  EXPECT_NEAR(std::abs(scenario.config.rig.lasers[0].p1), std::abs(five.p1),
+              1e-9);  // sign: axis convention
+  ASSERT_EQ(scenario.calibration.size(), 1u);
+  EXPECT_EQ(scenario.calibration[0].name, "laser");
+  const Renderer renderer(scenario.calibration[0].config);
+  for (const FrameState& view : scenario.calibration[0].views) {
+    EXPECT_GT(renderer.LaserGroundTruth(view).size(), 60u);
+  }
+}
+
+TEST(ScenarioTest, SceneYamlRoundTripsForEveryScenario) {
+  for (const std::string& name : ScenarioNames()) {
+    ScenarioOptions options;
+    options.width = 64;
+    options.height = 48;
+    options.frames = 2;
+    const Scenario scenario = MakeScenario(name, options);
+    const std::string text = SceneToYaml(scenario);
+    const Scenario back = ParseSceneYaml(text, name, scenario.config.rig);
+    EXPECT_EQ(SceneToYaml(back), text) << name;
+  }
+}
+
+TEST(ScenarioTest, SceneYamlIsStrict) {
+  ScenarioOptions options;
+  options.width = 64;
+  options.height = 48;
+  const Scenario scenario = MakeScenario("tank-target", options);
+  const std::string text = SceneToYaml(scenario);
+  auto error_of = [&](const std::string& changed) -> std::string {
+    try {
+      ParseSceneYaml(changed, "scene.yaml", scenario.config.rig);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  std::string unknown = text;
+  unknown.replace(unknown.find("  phase_g:"), 0, "  colour: blue\n");
+  EXPECT_NE(error_of(unknown).find("unknown key 'medium.colour'"), std::string::npos)
+      << error_of(unknown);
+  std::string missing = text;
+  missing.erase(missing.find("  phase_g:"),
+                missing.find('\n', missing.find("  phase_g:")) - missing.find("  phase_g:") + 1);
+  EXPECT_NE(error_of(missing).find("missing key 'medium.phase_g'"), std::string::npos);
+  std::string bad = text;
+  bad.replace(bad.find("rig_laser: laser0"), 17, "rig_laser: laser9");
+  EXPECT_NE(error_of(bad).find("laser9"), std::string::npos);
+}
+
+TEST(MediumTest, PresetsArePetzoldsWatersAt530) {
+  EXPECT_NEAR(Medium::Preset("clear").Attenuation(530), 0.151, 1e-12);
+  EXPECT_NEAR(Medium::Preset("coastal").Attenuation(530), 0.398, 1e-12);
+  EXPECT_NEAR(Medium::Preset("turbid").Attenuation(530), 2.190, 1e-12);
+  EXPECT_NEAR(Medium::Preset("clear").Scattering(530), 0.037, 1e-12);
+  EXPECT_NEAR(Medium::Preset("turbid").Scattering(530), 1.824, 1e-12);
+  EXPECT_NEAR(Medium::Preset("pure").Attenuation(530), PureWaterAbsorption(530), 0);
+  EXPECT_EQ(Medium::Preset("air").Attenuation(530), 0.0);
+  // Numbers are c_p(530); attenuation grows with it at every wavelength.
+  for (double wavelength : {450.0, 530.0, 620.0}) {
+    EXPECT_LT(Medium::Parse("0.2").Attenuation(wavelength),
+              Medium::Parse("0.5").Attenuation(wavelength));
+  }
+  EXPECT_THROW(Medium::Parse("-1"), Error);
+  EXPECT_THROW(Medium::Parse("murky"), Error);
+  EXPECT_THROW(Medium::Parse("nan"), Error);
+}
+
+TEST(ScenarioTest, MarineSnowAddsLocalisedParticlesDeterministically) {
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.output = OutputFormat::kRgb;
+  Scenario clean = MakeScenario("tank-target", options);
+  clean.config.sensor.noise = false;
+  options.marine_snow_per_m3 = 300;
+  Scenario snowy = MakeScenario("tank-target", options);
+  snowy.config.sensor.noise = false;
+  const Trajectory trajectory(clean.motion);
+  const FrameState state = clean.FrameAt(trajectory, 5);
+  const cv::Mat a = Renderer(clean.config).Render(state).electrons;
+  const cv::Mat b = Renderer(snowy.config).Render(state).electrons;
+  cv::Mat difference = b - a, changed;
+  double lowest = 0;
+  cv::minMaxLoc(difference.reshape(1), &lowest);
+  EXPECT_GE(lowest, 0.0);  // only adds light
+  cv::compare(difference.reshape(1), 1.0, changed, cv::CMP_GT);
+  const double share = cv::countNonZero(changed) / static_cast<double>(changed.total());
+  EXPECT_GT(share, 0.001);
+  EXPECT_LT(share, 0.2);
+  EXPECT_EQ(cv::norm(b, Renderer(snowy.config).Render(state).electrons, cv::NORM_INF), 0.0);
+}
+
+TEST(ScenarioTest, MotionBlurSmoothsTheImage) {
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.output = OutputFormat::kRgb;
+  Scenario scenario = MakeScenario("tank-target", options);
+  scenario.config.sensor.noise = false;
+  const Renderer renderer(scenario.config);
+  FrameState sharp = scenario.FrameAt(Trajectory(scenario.motion), 0);
+  FrameState blurred = sharp;
+  for (int k = 0; k < 8; ++k) {
+    Rigid3d pose = sharp.world_from_camera;
+    pose.translation.x() += 0.04 * (k / 7.0 - 0.5);  // 4 cm during the exposure
+    blurred.exposure_poses.push_back(pose);
+  }
+  auto gradient_energy = [&](const FrameState& state) {
+    cv::Mat gray, dx;
+    cv::extractChannel(renderer.Render(state).electrons, gray, 0);
+    cv::Sobel(gray, dx, CV_32F, 1, 0);
+    return cv::norm(dx, cv::NORM_L2);
+  };
+  EXPECT_LT(gradient_energy(blurred), 0.8 * gradient_energy(sharp));
+}
+
+TEST(ScenarioTest, BoxFilteredTexturesMatchSupersampling) {
+  // One ray per pixel with box-filtered textures vs. 4x4 rays per pixel.
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.output = OutputFormat::kRgb;
+  Scenario scenario = MakeScenario("tank-target", options);
+  scenario.config.sensor.noise = false;
+  const FrameState state = scenario.FrameAt(Trajectory(scenario.motion), 0);
+  const cv::Mat single = Renderer(scenario.config).Render(state).electrons;
+  scenario.config.render.supersample = 4;
+  const RenderedFrame super = Renderer(scenario.config).Render(state);
+  cv::Mat red_single, red_super;
+  cv::extractChannel(single, red_single, 0);
+  cv::extractChannel(super.electrons, red_super, 0);
+  const double mean = cv::mean(red_super)[0];
+  EXPECT_LT(cv::norm(red_single, red_super, cv::NORM_L1) / red_super.total(), 0.03 * mean);
+  EXPECT_LT(std::abs(cv::mean(red_single)[0] - mean), 0.01 * mean);
+  EXPECT_NEAR(super.range_m.at<float>(120, 160), 2.0, 0.2);
+}
+
+TEST(ScenarioTest, BadOptionsAreRejected) {
+  ScenarioOptions options;
+  options.frames = 0;
+  EXPECT_THROW(MakeScenario("tank-target", options), Error);
+  options = {};
+  options.width = 64;  // without height
+  EXPECT_THROW(MakeScenario("tank-target", options), Error);
+  options = {};
+  options.turbidity = "-0.5";
+  EXPECT_THROW(MakeScenario("tank-target", options), Error);
+  EXPECT_THROW(MakeScenario("wreck", ScenarioOptions{}), UsageError);
+}
+
+}  // namespace
+}  // namespace uwscan::sim

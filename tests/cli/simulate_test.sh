@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# CLI contract of `uwscan simulate`: a small dataset is written completely,
+# bad options exit 2, bad output folders exit 1, and nothing partial is left.
+set -u
+uwscan="$1"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+expect_status() {  # expected_status description command...
+  local expected=$1 description=$2
+  shift 2
+  "$@" >"$work/out" 2>"$work/err"
+  local status=$?
+  [ "$status" -eq "$expected" ] || fail "$description: exit $status, expected $expected ($(cat "$work/err"))"
+  if [ "$expected" -ne 0 ]; then
+    grep -q "^uwscan: \(usage \)\?error: \|^\(Run with\|The following\|.*: \)" "$work/err" ||
+      fail "$description: no error message"
+  fi
+}
+
+# A small, fast dataset.
+expect_status 0 "tank-target" "$uwscan" simulate tank-target --out "$work/ds" --frames 3 \
+  --width 160 --height 120 --seed 7 --quiet
+for f in rig.yaml scene.yaml frames.csv groundtruth.tum laser_gt.csv frames/000000.png frames/000002.png; do
+  [ -s "$work/ds/$f" ] || fail "missing $f"
+done
+[ "$(head -1 "$work/ds/frames.csv")" = "index,timestamp_s,file,laser_angle_rad" ] || fail "frames.csv header"
+[ "$(grep -vc '^#' "$work/ds/groundtruth.tum")" -eq 3 ] || fail "groundtruth.tum rows"
+[ "$(head -1 "$work/ds/laser_gt.csv")" = "frame,laser,u,v,x,y,z" ] || fail "laser_gt.csv header"
+[ "$(wc -l < "$work/ds/laser_gt.csv")" -gt 100 ] || fail "laser_gt.csv too short"
+[ -z "$(cat "$work/out")" ] || fail "--quiet printed to stdout"
+
+# Deterministic for a seed: the same command gives identical files.
+expect_status 0 "tank-target again" "$uwscan" simulate tank-target --out "$work/ds2" --frames 3 \
+  --width 160 --height 120 --seed 7 --quiet
+for f in frames/000001.png laser_gt.csv groundtruth.tum scene.yaml; do
+  cmp -s "$work/ds/$f" "$work/ds2/$f" || fail "not deterministic: $f"
+done
+
+# Other scenarios and options.
+expect_status 0 "hull rgb turbid" "$uwscan" simulate hull --out "$work/hull" --frames 2 --width 96 \
+  --height 72 --turbidity turbid --output rgb --bits 16 --laser-power 0.1 --motion-amplitude 0.05 --quiet
+expect_status 0 "snow and motion blur" "$uwscan" simulate tank-target --out "$work/snow" --frames 2 \
+  --width 96 --height 72 --marine-snow 200 --motion-blur 3 --supersample 2 --quiet
+grep -q "per_m3: 200" "$work/snow/scene.yaml" || fail "snow not in scene.yaml"
+grep -q "  supersample: 2" "$work/snow/scene.yaml" || fail "supersample not in scene.yaml"
+expect_status 0 "seabed numeric turbidity" "$uwscan" simulate seabed-transect --out "$work/sea" \
+  --frames 2 --width 96 --height 72 --turbidity 0.5 --output mono --quiet
+
+expect_status 0 "aquarium" "$uwscan" simulate aquarium --out "$work/aq" --frames 1 --width 96 \
+  --height 72 --port-gap-mm 10 --port-tilt-deg 4 --quiet
+for f in calib/air/rig.yaml calib/air/frames/000000.png calib/water/groundtruth.tum frames.csv; do
+  [ -s "$work/aq/$f" ] || fail "aquarium: missing $f"
+done
+grep -q "model: pinhole" "$work/aq/calib/air/rig.yaml" || fail "aquarium: air rig is not pinhole"
+expect_status 0 "laser-tilt" "$uwscan" simulate laser-tilt --out "$work/lt" --frames 1 --width 96 \
+  --height 72 --laser-tilt-deg 8 --quiet
+[ -s "$work/lt/calib/laser/frames/000005.png" ] || fail "laser-tilt: calib/laser"
+
+# Usage errors: exit 2.
+expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"
+expect_status 2 "zero frames" "$uwscan" simulate tank-target --out "$work/e2" --frames 0
+expect_status 2 "negative turbidity" "$uwscan" simulate tank-target --out "$work/e3" --turbidity=-1
+expect_status 2 "unknown turbidity" "$uwscan" simulate tank-target --out "$work/e4" --turbidity murky
+expect_status 2 "bad output" "$uwscan" simulate tank-target --out "$work/e5" --output jpeg
+expect_status 2 "width without height" "$uwscan" simulate tank-target --out "$work/e6" --width 100
+expect_status 2 "missing --out" "$uwscan" simulate tank-target
+expect_status 2 "negative snow" "$uwscan" simulate tank-target --out "$work/e8" --marine-snow=-1
+expect_status 2 "laser tilt out of range" "$uwscan" simulate laser-tilt --out "$work/e7" --laser-tilt-deg 45
+for e in e1 e2 e3 e4 e5 e6 e7 e8; do [ ! -e "$work/$e" ] || fail "$e was created"; done
+grep -q "unknown scenario 'no-such'" <("$uwscan" simulate no-such --out "$work/e1" 2>&1) ||
+  fail "unknown scenario message"
+
+# Runtime errors: exit 1, nothing left under the final name.
+expect_status 1 "non-empty output" "$uwscan" simulate tank-target --out "$work/ds" --frames 1 \
+  --width 32 --height 24 --quiet
+mkdir -p "$work/ro" && chmod 555 "$work/ro"
+if [ "$(id -u)" -ne 0 ]; then
+  expect_status 1 "unwritable output" "$uwscan" simulate tank-target --out "$work/ro/ds" --frames 1 \
+    --width 32 --height 24 --quiet
+fi
+expect_status 1 "output under a file" "$uwscan" simulate tank-target --out "$work/ds/rig.yaml/x" \
+  --frames 1 --width 32 --height 24 --quiet
+expect_status 1 "output under /proc" "$uwscan" simulate tank-target --out /proc/uwscan-sim \
+  --frames 1 --width 32 --height 24 --quiet
+[ -z "$(ls "$work" | grep tmp-)" ] || fail "temporary folder left behind"
+echo "simulate CLI: all checks passed"
