@@ -108,8 +108,19 @@ struct FlatPortModel {
     for (int i = 0; i < 3; ++i) lateral[i] = point[i] - axial * n[i];
     const double lateral_value = std::sqrt(ScalarOf(Dot(lateral, lateral)));
     if (!(lateral_value > 1e-14 * std::abs(ScalarOf(axial)))) {
-      // On the port axis: the ray runs along the normal, no refraction.
-      for (int i = 0; i < 3; ++i) air[i] = n[i];
+      // On the port axis the ray runs along the normal. Use the paraxial
+      // limit (tan a_i = (n_a/n_i) tan a_a) in vector form, exact to first
+      // order in the lateral offset, so that Jets keep their derivatives
+      // here instead of seeing a constant ray.
+      using std::sqrt;
+      const T paraxial = d_air + d_glass * port[2] / port[3] + d_water * port[2] / port[4];
+      T norm2 = T(0);
+      for (int i = 0; i < 3; ++i) {
+        air[i] = n[i] + lateral[i] / paraxial;
+        norm2 += air[i] * air[i];
+      }
+      const T norm = sqrt(norm2);
+      for (int i = 0; i < 3; ++i) air[i] /= norm;
       return ScalarOf(air[2]) > 1e-12 ? Status::kOk : Status::kDegenerate;
     }
     const T lateral_norm = sqrt(Dot(lateral, lateral));

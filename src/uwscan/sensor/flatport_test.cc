@@ -211,6 +211,27 @@ struct BackProjectionCost {
   }
 };
 
+// On the port axis the exact projection keeps its derivatives (a point
+// exactly on the axis is where a calibration starts from a frontal board).
+TEST(FlatPortModel, DerivativesOnThePortAxis) {
+  const Camera camera = Camera::Flat1();
+  const auto port = camera.port.Params();
+  using Jet = ceres::Jet<double, 3>;
+  Jet intrinsics[4], distortion[5], normal[3], port_jet[5];
+  for (int i = 0; i < 4; ++i) intrinsics[i] = Jet(camera.intrinsics[i]);
+  for (int i = 0; i < 5; ++i) distortion[i] = Jet(camera.distortion[i]);
+  for (int i = 0; i < 3; ++i) normal[i] = Jet(camera.port.normal[i]);
+  for (int i = 0; i < 5; ++i) port_jet[i] = Jet(port[i]);
+  const auto du_dx = [&](double x) {
+    const Jet point[3] = {Jet(x, 0), Jet(0.0, 1), Jet(1.0, 2)};
+    Jet pixel[2];
+    EXPECT_TRUE(FlatPortModel::ProjectExact(intrinsics, distortion, normal, port_jet, point, pixel));
+    return pixel[0].v[0];
+  };
+  EXPECT_NEAR(du_dx(0.0), du_dx(1e-6), 1e-3 * du_dx(1e-6));
+  EXPECT_GT(du_dx(0.0), 1000.0);
+}
+
 TEST(FlatPortModel, JacobiansMatchNumericDifferentiation) {
   const Camera camera = Camera::Flat3();
   const double intrinsics[4] = {785.0, 786.0, 641.0, 479.0};
