@@ -8,6 +8,7 @@
 #include "uwscan/io/image.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
+#include "uwscan/sim/ins.h"
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/progress.h"
@@ -115,6 +116,12 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
     frames.Commit();
     truth.Commit();
     laser_truth.Commit();
+    // What the vehicle's navigation would have logged (thesis §6.5), for
+    // `uwscan reconstruct --poses ins.tum`.
+    InsOptions ins;
+    ins.seed = scenario.seed + 1000;
+    WriteTum(temp_dir / "ins.tum",
+             SimulateIns(trajectory, 0.0, scenario.TimeOf(std::max(0, scenario.frames - 1)), ins));
   }
   for (const auto& set : scenario.calibration) {
     WriteCalibrationSet(set, temp_dir / "calib" / set.name, &progress, &done);
