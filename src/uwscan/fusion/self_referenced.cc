@@ -1,5 +1,7 @@
 #include "uwscan/fusion/self_referenced.h"
 
+#include <Eigen/Geometry>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "uwscan/util/error.h"
@@ -51,6 +53,13 @@ SelfReferencedPoseProvider::SelfReferencedPoseProvider(const Camera& camera, int
                                                        const SelfReferencedOptions& options)
     : camera_(camera), laser_channel_(laser_channel), options_(options) {
   options_.Check();
+  smoother_ = std::make_unique<PoseSmoother>(options_.smoothing_half_window);
+}
+
+void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, double timestamp_s,
+                                      std::vector<PoseUpdate>* out) {
+  const auto final_poses = raw ? smoother_->Add(*raw, timestamp_s) : smoother_->Flush();
+  out->insert(out->end(), final_poses.begin(), final_poses.end());
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame) {
@@ -70,7 +79,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
 
   if (running_) {
     std::vector<PoseUpdate> updates;
-    if (const auto update = Track(held)) updates.push_back(*update);
+    Emit(Track(held), held.input.timestamp_s, &updates);
     return updates;
   }
   held_.push_back(std::move(held));
@@ -91,6 +100,13 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   const Rigid3d origin = last_pose_.value_or(Rigid3d());
   surface_ = std::make_unique<SurfaceModel>(camera_, origin, options_.surface);
   for (const auto& h : held_) surface_->AddProfile(origin, h.profile);
+  // Features only along the swept band would leave the pose's rotation
+  // about the band undetermined: wait until the laser points define the
+  // scene's plane, which gives every feature a depth.
+  if (options_.surface.extrapolate_plane && !surface_->HasDominantPlane()) {
+    surface_.reset();
+    return {};
+  }
   vo::OdometryOptions odometry_options = options_.odometry;
   SurfaceModel* live = surface_.get();
   odometry_options.surface = [live](const Eigen::Vector3d& o,
@@ -109,12 +125,14 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     return {};
   }
   running_ = true;
+  last_time_s_ = first.input.timestamp_s;
   if (init_frame_ < 0) init_frame_ = first.input.index;
   if (last_pose_) ++reinitialisations_;
   ++tracked_;
   ++keyframes_;
   last_pose_ = origin;
-  std::vector<PoseUpdate> updates = {{first.input.index, origin}};
+  std::vector<PoseUpdate> updates;
+  Emit(PoseUpdate{first.input.index, origin}, first.input.timestamp_s, &updates);
   std::deque<Held> rest;
   rest.swap(held_);
   rest.pop_front();
@@ -123,7 +141,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
       held_.push_back(h);  // lost again: hold for the next initialisation
       continue;
     }
-    if (const auto update = Track(h)) updates.push_back(*update);
+    Emit(Track(h), h.input.timestamp_s, &updates);
   }
   return updates;
 }
@@ -143,19 +161,38 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
   }
   ++tracked_;
   const Rigid3d pose = *result.world_from_camera;
+  if (last_pose_) {
+    const double dt = std::max(frame.input.timestamp_s - last_time_s_, 1e-3);
+    const double rotation_deg =
+        Eigen::AngleAxisd(pose.rotation * last_pose_->rotation.conjugate()).angle() * 180.0 / M_PI;
+    const double distance = (pose.translation - last_pose_->translation).norm();
+    if (rotation_deg > options_.max_rotation_rate_deg_s * dt ||
+        distance > options_.max_speed_m_s * dt) {
+      ++implausible_;
+      --tracked_;
+      ++lost_;
+      running_ = false;
+      odometry_.reset();
+      surface_.reset();
+      held_.clear();
+      return std::nullopt;
+    }
+  }
   last_pose_ = pose;
+  last_time_s_ = frame.input.timestamp_s;
   surface_->AddProfile(pose, frame.profile);
   return PoseUpdate{frame.input.index, pose};
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Finish() {
+  std::vector<PoseUpdate> updates;
   if (!running_ && !held_.empty()) {
-    auto updates = TryInitialize();
+    updates = TryInitialize();
     dropped_ += static_cast<int>(held_.size());
     held_.clear();
-    return updates;
   }
-  return {};
+  Emit(std::nullopt, 0.0, &updates);
+  return updates;
 }
 
 nlohmann::json SelfReferencedPoseProvider::Details() const {
@@ -166,6 +203,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"frames_without_pose_at_start", dropped_},
           {"first_frame_with_pose", init_frame_},
           {"keyframes", keyframes_},
+          {"implausible_poses_rejected", implausible_},
           {"surface_points", surface_ ? surface_->size() : 0}};
 }
 

@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "uwscan/fusion/pose_provider.h"
+#include "uwscan/fusion/pose_smoother.h"
 #include "uwscan/fusion/surface_model.h"
 #include "uwscan/sensor/rig.h"
 #include "uwscan/vo/odometry.h"
@@ -25,6 +26,13 @@ struct SelfReferencedOptions {
   SurfaceModelOptions surface;
   int mask_dilation_px = 4;     // around the detected line (halo, blur)
   double illumination_sigma_fraction = 0.01;  // high-pass scale, of the image width
+  // A pose that moves faster than a vehicle can is not believed: the frame
+  // gets no pose and the map restarts from the last believed one.
+  double max_rotation_rate_deg_s = 720.0;
+  double max_speed_m_s = 20.0;
+  // Poses are smoothed over +-N frames (quadratic fit, pose_smoother.h) and
+  // come out N frames late; 0 switches smoothing off.
+  int smoothing_half_window = 10;
   int max_init_frames = 90;     // frames held back while the laser sweeps enough surface
   int init_attempt_every = 3;   // frames between initialisation attempts
   void Check() const;
@@ -54,6 +62,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   };
   std::vector<PoseUpdate> TryInitialize();
   std::optional<PoseUpdate> Track(const Held& frame);
+  // Raw poses through the smoother; a gap flushes it.
+  void Emit(const std::optional<PoseUpdate>& raw, double timestamp_s, std::vector<PoseUpdate>* out);
+  std::unique_ptr<PoseSmoother> smoother_;
 
   Camera camera_;
   int laser_channel_;
@@ -63,6 +74,8 @@ class SelfReferencedPoseProvider : public PoseProvider {
   std::deque<Held> held_;
   bool running_ = false;
   std::optional<Rigid3d> last_pose_;
+  double last_time_s_ = 0.0;
+  int implausible_ = 0;
   // Statistics.
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;

@@ -56,6 +56,8 @@ class SurfaceModel {
   };
   std::optional<Hit> Intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
   long size() const { return points_; }
+  // Whether the laser points span enough to define the dominant plane.
+  bool HasDominantPlane() const { return DominantPlane().has_value(); }
 
  private:
   std::optional<Eigen::Vector2i> CellOf(const Eigen::Vector3d& point_world) const;
