@@ -37,6 +37,7 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   std::sort(gt_sorted.begin(), gt_sorted.end(),
             [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
   std::vector<Rigid3d> est, gt;
+  std::vector<long> gt_index;  // position in the time-sorted ground truth
   for (const StampedPose& pose : estimate) {
     auto it = std::lower_bound(
         gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
@@ -51,6 +52,7 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     if (best == nullptr) continue;
     est.push_back(pose.world_from_camera);
     gt.push_back(best->world_from_camera);
+    gt_index.push_back(long(best - gt_sorted.data()));
   }
   TrajectoryMetrics metrics;
   metrics.associated = int(est.size());
@@ -87,10 +89,13 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
   metrics.ate_median_m = errors[errors.size() / 2];
 
-  // RPE.
+  // RPE between ground-truth frames `rpe_step` apart (pairs across a
+  // tracking gap are skipped).
   double t_sq = 0, r_sq = 0, t_sum = 0, r_sum = 0;
-  for (size_t i = 0; i + options.rpe_step < est.size(); ++i) {
-    const size_t j = i + options.rpe_step;
+  for (size_t i = 0; i + 1 < est.size(); ++i) {
+    size_t j = i + 1;
+    while (j < est.size() && gt_index[j] - gt_index[i] < options.rpe_step) ++j;
+    if (j >= est.size() || gt_index[j] - gt_index[i] != options.rpe_step) continue;
     const Rigid3d error = RelativeError(gt[i], gt[j], aligned[i], aligned[j]);
     const double t = error.translation.norm(), r = AngleDeg(error.rotation);
     t_sq += t * t, r_sq += r * r, t_sum += t, r_sum += r;

@@ -16,7 +16,7 @@ namespace uwscan {
 struct TrajectoryMetricsOptions {
   double max_time_difference_s = 1e-3;  // timestamp association tolerance
   bool align_scale = true;              // Sim(3); false: SE(3)
-  int rpe_step = 1;                     // RPE between frames i and i + step (associated poses)
+  int rpe_step = 1;                     // RPE between ground-truth frames i and i + step
   // KITTI path lengths (m); empty = 10%, 20%, ..., 50% of the ground-truth path.
   std::vector<double> drift_lengths_m;
   int drift_start_step = 1;  // every k-th frame starts a drift segment (KITTI: 10)

@@ -28,7 +28,7 @@ struct FeatureTrackerOptions {
   double border_px = 8.0;            // tracks closer to the border are dropped
   // Minimum corner response in absolute terms (Harris on 8-bit images), so
   // that textureless or black frames yield no features rather than noise.
-  double min_harris_response = 1e-5;
+  double min_harris_response = 1e-7;
   void Check() const;
 };
 

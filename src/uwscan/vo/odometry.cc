@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <unordered_set>
@@ -55,6 +56,7 @@ void OdometryOptions::Check() const {
   UWS_CHECK(min_triangulation_angle_deg > 0, "min_triangulation_angle_deg must be > 0");
   UWS_CHECK(max_reprojection_px > 0, "max_reprojection_px must be > 0");
   UWS_CHECK(max_step_depth_ratio > 0, "max_step_depth_ratio must be > 0");
+  UWS_CHECK(initial_median_depth_m > 0, "initial_median_depth_m must be > 0");
 }
 
 cv::Mat ToGray8(const cv::Mat& image) {
@@ -145,6 +147,67 @@ double Odometry::MedianDepth(const Keyframe& keyframe) const {
   return depths.empty() ? last_median_depth_ : Median(depths);
 }
 
+std::optional<SparseMap> Odometry::BuildTwoViewMap(const RelativePoseResult& relative,
+                                                   const std::vector<Ray>& rays1,
+                                                   const std::vector<Ray>& rays2,
+                                                   const std::vector<uint64_t>& ids,
+                                                   bool first_map, double* rms_px) const {
+  // Two keyframes: the reference at the origin, the current one from the
+  // relative pose (unit baseline); triangulate the inliers.
+  SparseMap map;
+  Keyframe kf0, kf1;
+  kf0.id = next_keyframe_id_;
+  kf0.frame_index = reference_->frame_index;
+  kf1.id = next_keyframe_id_ + 1;
+  kf1.frame_index = frame_count_ - 1;
+  kf1.timestamp_s = timestamp_s_;
+  kf1.camera_from_world = relative.camera2_from_camera1;
+  const Rigid3d world_from_kf1 = kf1.camera_from_world.Inverse();
+  const double min_angle = options_.min_triangulation_angle_deg * M_PI / 180.0;
+  std::unordered_map<uint64_t, Eigen::Vector2d> current;
+  for (const auto& t : tracker_.tracks()) current[t.id] = t.pixel;
+  std::vector<double> angles, depths;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (!relative.inliers[i]) continue;
+    const std::vector<Ray> rays = {rays1[i], ToWorld(world_from_kf1, rays2[i])};
+    const auto point = TriangulateRays(rays);
+    const double angle = MaxRayAngle(rays);
+    if (!point || angle < 0.5 * min_angle) continue;
+    if ((kf1.camera_from_world * *point).z() <= 0) continue;
+    map.points[ids[i]] = {ids[i], *point, 2};
+    kf0.observations[ids[i]] = reference_->pixels.at(ids[i]);
+    kf1.observations[ids[i]] = current.at(ids[i]);
+    angles.push_back(angle);
+    depths.push_back(point->z());
+  }
+  if (int(map.points.size()) < options_.min_init_matches || Median(angles) < min_angle) {
+    return std::nullopt;
+  }
+  // Scale the two-view map so that its median depth is the expected one
+  // (the prior at the first start, the previous map's after a loss): a
+  // refractive camera is only described exactly at metric scale, since the
+  // ray origins on the port are in metres.
+  const double scale =
+      (first_map ? options_.initial_median_depth_m : last_median_depth_) / Median(depths);
+  kf1.camera_from_world.translation *= scale;
+  for (auto& [id, point] : map.points) point.position_world *= scale;
+  map.keyframes = {kf0, kf1};
+  // Refine with the camera model (refractive for a flat port); the baseline
+  // length is held (ceres::SphereManifold), the monocular gauge.
+  BundleAdjustmentOptions ba = options_.ba;
+  ba.max_iterations = std::max(ba.max_iterations, 20);
+  ba.max_solver_time_s = std::max(ba.max_solver_time_s, 0.5);
+  const BundleAdjustmentSummary summary = AdjustWindow(camera_, ba, &map, /*two_view_init=*/true);
+  for (auto it = map.points.begin(); it != map.points.end();) {
+    const bool seen = map.keyframes[0].observations.count(it->first) &&
+                      map.keyframes[1].observations.count(it->first);
+    it = seen ? std::next(it) : map.points.erase(it);
+  }
+  if (int(map.points.size()) < options_.min_init_matches) return std::nullopt;
+  *rms_px = summary.final_rms_px;
+  return map;
+}
+
 void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   result->status = state_ == State::kLost ? FrameStatus::kLost : FrameStatus::kInitializing;
   if (result->message.empty()) {
@@ -179,78 +242,37 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
 
   RelativePoseOptions relative_options;
   relative_options.threshold_rad = options_.ransac_threshold_px / camera_.intrinsics[0];
-  const RelativePoseResult relative = EstimateRelativePose(rays1, rays2, relative_options);
-  if (!relative.success || relative.num_inliers < options_.min_init_matches) {
-    result->message = "initialisation: relative pose failed";
-    return;
+  std::vector<RelativePoseResult> candidates;
+  const RelativePoseResult essential = EstimateRelativePose(rays1, rays2, relative_options);
+  if (essential.success) candidates.push_back(essential);
+  for (const auto& c : RelativePosesFromHomography(rays1, rays2, relative_options)) {
+    candidates.push_back(c);
   }
-  // Two keyframes: the reference at the origin, the current one from the
-  // five-point pose (unit baseline); triangulate the inliers.
-  SparseMap map;
-  Keyframe kf0, kf1;
-  kf0.id = next_keyframe_id_;
-  kf0.frame_index = reference_->frame_index;
-  kf1.id = next_keyframe_id_ + 1;
-  kf1.frame_index = result->frame_index;
-  kf1.timestamp_s = timestamp_s_;
-  kf1.camera_from_world = relative.camera2_from_camera1;
-  const Rigid3d world_from_kf1 = kf1.camera_from_world.Inverse();
-  const double min_angle = options_.min_triangulation_angle_deg * M_PI / 180.0;
-  std::vector<double> angles;
-  for (size_t i = 0; i < ids.size(); ++i) {
-    if (!relative.inliers[i]) continue;
-    const std::vector<Ray> rays = {rays1[i], ToWorld(world_from_kf1, rays2[i])};
-    const auto point = TriangulateRays(rays);
-    const double angle = MaxRayAngle(rays);
-    if (!point || angle < 0.5 * min_angle) continue;
-    map.points[ids[i]] = {ids[i], *point, 2};
-    kf0.observations[ids[i]] = reference_->pixels.at(ids[i]);
-    kf1.observations[ids[i]] = camera_.Project(kf1.camera_from_world * *point).value_or(
-        Eigen::Vector2d(-1e9, -1e9));
-    angles.push_back(angle);
-  }
-  // Observations in kf1 are the measured pixels.
-  for (const auto& t : tracker_.tracks()) {
-    if (kf1.observations.count(t.id)) kf1.observations[t.id] = t.pixel;
-  }
-  if (int(map.points.size()) < options_.min_init_matches ||
-      Median(angles) < min_angle) {
-    result->message = "initialisation: too little parallax";
-    return;
-  }
-  map.keyframes = {kf0, kf1};
-  // Refine with the camera model (refractive for a flat port), unit baseline.
-  BundleAdjustmentOptions ba = options_.ba;
-  ba.max_iterations = std::max(ba.max_iterations, 20);
-  ba.max_solver_time_s = std::max(ba.max_solver_time_s, 0.5);
-  AdjustWindow(camera_, ba, &map, /*two_view_init=*/true);
-  for (auto it = map.points.begin(); it != map.points.end();) {
-    const bool seen = map.keyframes[0].observations.count(it->first) &&
-                      map.keyframes[1].observations.count(it->first);
-    it = seen ? std::next(it) : map.points.erase(it);
-  }
-  if (int(map.points.size()) < options_.min_init_matches) {
-    result->message = "initialisation: too many outliers after refinement";
-    return;
-  }
-  // Scale and place the new map: median depth 1 at the first start, else
-  // the median depth of the previous map, and the reference camera where the
-  // last pose was (the motion through the gap is unknown).
-  map_ = std::move(map);
-  const double depth = MedianDepth(map_.keyframes[0]);
+  // Refine every candidate with the camera model and keep the one that
+  // explains the tracks best.
   const bool first_map = num_maps_ == 0;
-  const double scale = (first_map ? 1.0 : last_median_depth_) / depth;
+  std::optional<SparseMap> best;
+  double best_rms = std::numeric_limits<double>::infinity();
+  for (const RelativePoseResult& candidate : candidates) {
+    if (candidate.num_inliers < options_.min_init_matches) continue;
+    double rms = 0.0;
+    std::optional<SparseMap> map = BuildTwoViewMap(candidate, rays1, rays2, ids, first_map, &rms);
+    if (map && rms < best_rms) best_rms = rms, best = std::move(map);
+  }
+  if (!best) {
+    result->message = candidates.empty() ? "initialisation: relative pose failed"
+                                         : "initialisation: too little parallax or structure";
+    return;
+  }
+  SparseMap map = std::move(*best);
+  // Place the new map: the reference camera at the origin at the first
+  // start, else where the last pose was (the motion through the gap is
+  // unknown).
+  map_ = std::move(map);
   const Rigid3d world_from_kf0 = first_map ? Rigid3d() : last_camera_from_world_.Inverse();
   const Rigid3d kf0_from_world = world_from_kf0.Inverse();
-  for (Keyframe& kf : map_.keyframes) {
-    // camera_from_kf0 scaled, then composed with kf0_from_world.
-    Rigid3d camera_from_kf0 = kf.camera_from_world;
-    camera_from_kf0.translation *= scale;
-    kf.camera_from_world = camera_from_kf0 * kf0_from_world;
-  }
-  for (auto& [id, point] : map_.points) {
-    point.position_world = world_from_kf0 * (scale * point.position_world);
-  }
+  for (Keyframe& kf : map_.keyframes) kf.camera_from_world = kf.camera_from_world * kf0_from_world;
+  for (auto& [id, point] : map_.points) point.position_world = world_from_kf0 * point.position_world;
   next_keyframe_id_ += 2;
   ++num_maps_;
   state_ = State::kTracking;
@@ -263,16 +285,13 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   result->map_matches = result->inliers = int(map_.points.size());
   last_keyframe_inliers_ = result->inliers;
   last_median_depth_ = MedianDepth(map_.keyframes[1]);
-  reference_.reset();
-  // Drop tracks that did not make it into the map and refill the grid so
-  // the next keyframe can triangulate new points.
+  // Drop the reference's tracks that did not make it into the map (outliers)
+  // and refill the grid so the next keyframe can triangulate new points.
   std::vector<uint64_t> outliers;
   for (const auto& t : tracker_.tracks()) {
-    if (reference_ == std::nullopt && !map_.points.count(t.id) &&
-        map_.keyframes[0].observations.count(t.id)) {
-      outliers.push_back(t.id);
-    }
+    if (!map_.points.count(t.id) && reference_->pixels.count(t.id)) outliers.push_back(t.id);
   }
+  reference_.reset();
   tracker_.RemoveTracks(outliers);
   tracker_.Detect(mask, &result->tracking);
   for (const auto& t : tracker_.tracks()) map_.keyframes[1].observations[t.id] = t.pixel;

@@ -56,6 +56,11 @@ struct OdometryOptions {
   // depth; a larger jump is treated as a tracking failure.
   double max_step_depth_ratio = 0.5;
   bool keyframe_on_range_constraints = true;
+  // Scale prior: the expected median distance to the scene at the start
+  // (altitude, laser range). Monocular VO is up to scale, but a refractive
+  // camera is exact only at metric scale (its ray origins on the port are in
+  // metres), so the map starts near it; range constraints then fix it.
+  double initial_median_depth_m = 2.0;
   void Check() const;
 };
 
@@ -103,6 +108,11 @@ class Odometry {
   };
   void Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ranges, FrameResult* result);
   void Initialize(const cv::Mat& mask, FrameResult* result);
+  std::optional<SparseMap> BuildTwoViewMap(const RelativePoseResult& relative,
+                                           const std::vector<Ray>& rays1,
+                                           const std::vector<Ray>& rays2,
+                                           const std::vector<uint64_t>& ids, bool first_map,
+                                           double* rms_px) const;
   void SetReference(int frame_index);
   void MarkLost(const std::string& why, FrameResult* result);
   void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
@@ -122,7 +132,7 @@ class Odometry {
   int num_maps_ = 0;
   int last_keyframe_inliers_ = 0;
   Rigid3d last_camera_from_world_;  // last emitted pose
-  double last_median_depth_ = 1.0;  // scale carried over a re-initialisation
+  double last_median_depth_ = 2.0;  // scale carried over a re-initialisation
 };
 
 // 8-bit grey view of a frame (16-bit scaled, colour -> green channel); empty

@@ -160,7 +160,7 @@ Rigid3d DownwardPose(const Eigen::Vector3d& position, double yaw_rad, double rol
 namespace uwscan::vo::testing {
 
 std::vector<Rigid3d> TransectPoses(int frames, double length_m, double altitude_m, double sway_m,
-                                   double wobble_rad) {
+                                   double wobble_rad, double tilt_rad) {
   std::vector<Rigid3d> poses;
   for (int i = 0; i < frames; ++i) {
     const double s = frames > 1 ? double(i) / (frames - 1) : 0.0;
@@ -169,7 +169,7 @@ std::vector<Rigid3d> TransectPoses(int frames, double length_m, double altitude_
     poses.push_back(DownwardPose(
         Eigen::Vector3d(x, sway_m * std::sin(phase), altitude_m + 0.1 * std::sin(0.7 * phase)),
         wobble_rad * std::sin(0.5 * phase), wobble_rad * std::cos(0.9 * phase),
-        0.5 * wobble_rad * std::sin(1.3 * phase)));
+        0.5 * wobble_rad * std::sin(1.3 * phase) - tilt_rad));
   }
   return poses;
 }

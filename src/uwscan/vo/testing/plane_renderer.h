@@ -80,9 +80,10 @@ Rigid3d DownwardPose(const Eigen::Vector3d& position, double yaw_rad = 0.0, doub
 
 namespace uwscan::vo::testing {
 
-// A survey line along world x at `altitude_m` above the mean floor, with a
+// A survey line along world x (camera tilted by `tilt_rad` to look ahead) at `altitude_m` above the mean floor, with a
 // gentle sideways sway, yaw and roll wobble (world_from_camera per frame).
 std::vector<Rigid3d> TransectPoses(int frames, double length_m, double altitude_m,
-                                   double sway_m = 0.1, double wobble_rad = 0.03);
+                                   double sway_m = 0.1, double wobble_rad = 0.03,
+                                   double tilt_rad = 0.0);
 
 }  // namespace uwscan::vo::testing
