@@ -11,5 +11,7 @@ void RegisterAnalyzeCommands(CLI::App& app);
 void RegisterBenchCommands(CLI::App& app);
 void RegisterDemoCommand(CLI::App& app);
 void RegisterLaserCommands(CLI::App& app);
+void RegisterVoCommand(CLI::App& app);
+void RegisterEvaluateCommand(CLI::App& app);
 
 }  // namespace uwscan::cli

@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   uwscan::cli::RegisterBenchCommands(app);
   uwscan::cli::RegisterDemoCommand(app);
   uwscan::cli::RegisterLaserCommands(app);
+  uwscan::cli::RegisterVoCommand(app);
+  uwscan::cli::RegisterEvaluateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

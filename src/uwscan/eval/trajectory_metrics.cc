@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "uwscan/util/error.h"
 
@@ -138,6 +139,25 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     metrics.drift_rot_deg_per_m = r_drift / metrics.drift_segments;
   }
   return metrics;
+}
+
+std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
+  char buffer[1024];
+  std::snprintf(buffer, sizeof(buffer),
+                "poses: %d associated, ground-truth path %.3f m, Sim(3) scale %.6g\n"
+                "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n"
+                "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n"
+                "drift (KITTI, %d segments): %.3f %% translation, %.4f deg/m rotation\n",
+                m.associated, m.path_length_m, m.alignment.scale, m.ate_rmse_m, m.ate_mean_m,
+                m.ate_median_m, m.ate_max_m, 1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg,
+                m.rpe_pairs, m.drift_segments, m.drift_trans_percent, m.drift_rot_deg_per_m);
+  std::string out = buffer;
+  out += "drift lengths (m):";
+  for (double length : m.drift_lengths_m) {
+    std::snprintf(buffer, sizeof(buffer), " %.3g", length);
+    out += buffer;
+  }
+  return out + "\n";
 }
 
 }  // namespace uwscan

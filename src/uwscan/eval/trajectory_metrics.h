@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "uwscan/geometry/sim3_alignment.h"
@@ -44,5 +45,8 @@ struct TrajectoryMetrics {
 TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estimate,
                                            const std::vector<StampedPose>& ground_truth,
                                            const TrajectoryMetricsOptions& options = {});
+
+// Human-readable report (several lines) for the CLI.
+std::string FormatTrajectoryMetrics(const TrajectoryMetrics& metrics);
 
 }  // namespace uwscan
