@@ -115,6 +115,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
         odometry.ProcessFrame(TrackingImage(raw, rig_camera.bayer), mask, entry.timestamp_s);
     summary.vo_s += result.total_time_s;
     summary.tracking_s += result.tracking_time_s;
+    summary.vo_cpu_s += result.total_cpu_s;
+    summary.tracking_cpu_s += result.tracking_cpu_s;
     for (const auto& [frame, pose] : result.earlier_poses) {
       poses[frame] = {dataset.frames[size_t(frame)].timestamp_s, pose};
     }

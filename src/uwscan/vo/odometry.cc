@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <limits>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -16,6 +17,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 double Median(std::vector<double> values) {
@@ -53,6 +60,7 @@ void OdometryOptions::Check() const {
             "keyframe_min_tracked_ratio must be in [0, 1)");
   UWS_CHECK(max_init_frames >= 2, "max_init_frames must be >= 2");
   UWS_CHECK(min_pnp_inliers >= 4, "min_pnp_inliers must be >= 4");
+  UWS_CHECK(max_refine_points >= 6, "max_refine_points must be >= 6");
   UWS_CHECK(min_triangulation_angle_deg > 0, "min_triangulation_angle_deg must be > 0");
   UWS_CHECK(max_reprojection_px > 0, "max_reprojection_px must be > 0");
   UWS_CHECK(max_step_depth_ratio > 0, "max_step_depth_ratio must be > 0");
@@ -85,6 +93,7 @@ Odometry::Odometry(const Camera& camera, const OdometryOptions& options)
 FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
                                    const std::vector<RangeConstraint>& ranges) {
   const auto start = Clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   FrameResult result;
   result.frame_index = frame_count_++;
   result.timestamp_s = timestamp_s;
@@ -98,6 +107,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
                                std::to_string(image.rows) + ", camera is " +
                                std::to_string(camera_.width) + "x" + std::to_string(camera_.height);
     result.total_time_s = Seconds(start);
+    result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
     return result;
   }
   UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
@@ -106,6 +116,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   result.tracking = tracker_.Track(gray, mask);
   result.tracks = result.tracking.tracked;
   result.tracking_time_s = Seconds(start);
+  result.tracking_cpu_s = ThreadCpuSeconds() - cpu_start;
 
   if (state_ == State::kTracking) {
     Track(mask, ranges, &result);
@@ -118,6 +129,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   }
   if (result.world_from_camera) last_camera_from_world_ = result.world_from_camera->Inverse();
   result.total_time_s = Seconds(start);
+  result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
   return result;
 }
 
@@ -327,24 +339,32 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     MarkLost("pose estimation failed (" + std::to_string(pnp.num_inliers) + " inliers)", result);
     return;
   }
-  // Refine on the inliers by minimising the re-projection error.
+  // Refine on the inliers by minimising the re-projection error (at most
+  // max_refine_points of them, spread over the list: bounded work per frame).
   const CameraParams params(camera_);
   const Eigen::Quaterniond q0 = pnp.camera_from_world.rotation;
   double q[4] = {q0.x(), q0.y(), q0.z(), q0.w()};
   Eigen::Vector3d t = pnp.camera_from_world.translation;
   {
-    ceres::Problem problem;
+    std::vector<size_t> inlier_indices;
     for (size_t i = 0; i < ids.size(); ++i) {
-      if (!pnp.inliers[i]) continue;
+      if (pnp.inliers[i]) inlier_indices.push_back(i);
+    }
+    const size_t stride =
+        std::max<size_t>(1, inlier_indices.size() / size_t(options_.max_refine_points));
+    ceres::Problem problem;
+    ceres::HuberLoss* loss = new ceres::HuberLoss(options_.ba.huber_px);
+    for (size_t k = 0; k < inlier_indices.size(); k += stride) {
+      const size_t i = inlier_indices[k];
       const ReprojectionCost cost(params, options_.ba.method, options_.ba.taylor_iterations,
                                   pixels[i], 1.0);
-      problem.AddResidualBlock(PoseReprojectionCost::Create(cost, points[i]),
-                               new ceres::HuberLoss(options_.ba.huber_px), q, t.data());
+      problem.AddResidualBlock(PoseReprojectionCost::Create(cost, points[i]), loss, q, t.data());
     }
     problem.SetManifold(q, new ceres::EigenQuaternionManifold);
     ceres::Solver::Options solver_options;
     solver_options.linear_solver_type = ceres::DENSE_QR;
-    solver_options.max_num_iterations = 10;
+    solver_options.max_num_iterations = 6;
+    solver_options.function_tolerance = 1e-8;
     solver_options.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);

@@ -50,6 +50,7 @@ struct OdometryOptions {
   double keyframe_min_tracked_ratio = 0.6;
   int max_init_frames = 40;  // the initialisation reference is renewed after this
   int min_pnp_inliers = 15;
+  int max_refine_points = 150;  // pose refinement uses at most this many inliers
   double min_triangulation_angle_deg = 1.0;
   double max_reprojection_px = 2.5;
   // Largest plausible motion between two frames relative to the median scene
@@ -79,8 +80,12 @@ struct FrameResult {
   std::vector<std::pair<int, Rigid3d>> earlier_poses;
   TrackingStats tracking;
   BundleAdjustmentSummary bundle_adjustment;  // when keyframe
-  double tracking_time_s = 0.0;  // features only
+  double tracking_time_s = 0.0;  // features only (wall clock)
   double total_time_s = 0.0;
+  // The same as CPU time of the calling thread: on a shared machine this
+  // is the cost of the frame, the wall clock includes waiting for a core.
+  double tracking_cpu_s = 0.0;
+  double total_cpu_s = 0.0;
 };
 
 class Odometry {

@@ -50,7 +50,10 @@ std::optional<Eigen::Vector3d> TexturedTerrain::Intersect(const Eigen::Vector3d&
     const double lambda = (z - origin.z()) / direction.z();
     if (lambda <= 0) return std::nullopt;
     p = origin + lambda * direction;
-    z = Height(p.x(), p.y());
+    const double next = Height(p.x(), p.y());
+    const bool converged = std::abs(next - z) < 1e-7;
+    z = next;
+    if (converged || options_.relief_amplitude_m == 0.0) break;
   }
   p.z() = z;
   return p;
