@@ -27,6 +27,8 @@ void RegisterEvaluateCommand(CLI::App& app) {
   evaluate->add_option("--max-dt", options->max_time_difference_s,
                        "timestamp association tolerance (s)")
       ->capture_default_str();
+  evaluate->add_option("--rpe-from", options->rpe_from_s, "RPE only from this time (s)");
+  evaluate->add_option("--rpe-to", options->rpe_to_s, "RPE only up to this time (s)");
   evaluate->add_flag("--se3", *se3, "align without scale (metric trajectories)");
   evaluate->callback([=] {
     if (trajectory->empty() == result->empty()) {

@@ -39,6 +39,7 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
             [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
   std::vector<Rigid3d> est, gt;
   std::vector<long> gt_index;  // position in the time-sorted ground truth
+  std::vector<double> stamps;
   for (const StampedPose& pose : estimate) {
     auto it = std::lower_bound(
         gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
@@ -54,6 +55,7 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     est.push_back(pose.world_from_camera);
     gt.push_back(best->world_from_camera);
     gt_index.push_back(long(best - gt_sorted.data()));
+    stamps.push_back(pose.timestamp_s);
   }
   TrajectoryMetrics metrics;
   metrics.associated = int(est.size());
@@ -97,6 +99,7 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     size_t j = i + 1;
     while (j < est.size() && gt_index[j] - gt_index[i] < options.rpe_step) ++j;
     if (j >= est.size() || gt_index[j] - gt_index[i] != options.rpe_step) continue;
+    if (stamps[i] < options.rpe_from_s || stamps[j] > options.rpe_to_s) continue;
     const Rigid3d error = RelativeError(gt[i], gt[j], aligned[i], aligned[j]);
     const double t = error.translation.norm(), r = AngleDeg(error.rotation);
     t_sq += t * t, r_sq += r * r, t_sum += t, r_sum += r;

@@ -18,6 +18,9 @@ struct TrajectoryMetricsOptions {
   double max_time_difference_s = 1e-3;  // timestamp association tolerance
   bool align_scale = true;              // Sim(3); false: SE(3)
   int rpe_step = 1;                     // RPE between ground-truth frames i and i + step
+  // RPE only over pairs inside [rpe_from_s, rpe_to_s] (e.g. the hover part
+  // of a sequence); the alignment still uses every pose.
+  double rpe_from_s = -1e300, rpe_to_s = 1e300;
   // KITTI path lengths (m); empty = 10%, 20%, ..., 50% of the ground-truth path.
   std::vector<double> drift_lengths_m;
   int drift_start_step = 1;  // every k-th frame starts a drift segment (KITTI: 10)
