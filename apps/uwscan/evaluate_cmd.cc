@@ -24,8 +24,9 @@ void RegisterEvaluateCommand(CLI::App& app) {
   evaluate->add_option("--lengths", options->drift_lengths_m,
                        "drift path lengths in m (default: 10..50 % of the path)");
   evaluate->add_option("--rpe-step", options->rpe_step, "RPE frame step")->capture_default_str();
-  evaluate->add_option("--max-dt", options->max_time_difference_s,
-                       "timestamp association tolerance (s)")
+  evaluate
+      ->add_option("--max-dt", options->max_time_difference_s,
+                   "timestamp association tolerance (s)")
       ->capture_default_str();
   evaluate->add_option("--rpe-from", options->rpe_from_s, "RPE only from this time (s)");
   evaluate->add_option("--rpe-to", options->rpe_to_s, "RPE only up to this time (s)");

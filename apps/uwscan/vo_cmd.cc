@@ -51,8 +51,7 @@ void RegisterVoCommand(CLI::App& app) {
       ->capture_default_str();
   synth->add_option("--length", synth_options->length_m, "transect length (m)")
       ->capture_default_str();
-  synth->add_option("--altitude", synth_options->altitude_m, "altitude (m)")
-      ->capture_default_str();
+  synth->add_option("--altitude", synth_options->altitude_m, "altitude (m)")->capture_default_str();
   synth->add_option("--d-air", synth_options->d_air_m, "camera centre to port (m)")
       ->capture_default_str();
   synth->add_option("--medium", synth_options->medium, "clear | medium")->capture_default_str();
@@ -90,10 +89,11 @@ void RegisterVoCommand(CLI::App& app) {
     std::printf("CPU time: tracking alone %.1f frames/s, full VO %.1f frames/s (%.2f ms/frame)\n",
                 r.frames / std::max(r.tracking_cpu_s, 1e-9), r.frames / std::max(r.vo_cpu_s, 1e-9),
                 1e3 * r.vo_cpu_s / r.frames);
-    std::printf("wall clock: tracking alone %.1f frames/s, full VO %.1f frames/s (slowest frame "
-                "%.1f ms); rendering not counted (%.1f s)\n",
-                r.frames / std::max(r.tracking_s, 1e-9), r.frames / std::max(r.vo_s, 1e-9),
-                1e3 * r.max_frame_s, r.render_s);
+    std::printf(
+        "wall clock: tracking alone %.1f frames/s, full VO %.1f frames/s (slowest frame "
+        "%.1f ms); rendering not counted (%.1f s)\n",
+        r.frames / std::max(r.tracking_s, 1e-9), r.frames / std::max(r.vo_s, 1e-9),
+        1e3 * r.max_frame_s, r.render_s);
     std::printf("map: at most %d points, %d keyframes\nRSS (kB) by frame:", r.max_map_points,
                 r.max_keyframes);
     for (const auto& [frame, kb] : r.rss_kb) std::printf(" %d:%ld", frame, kb);

@@ -35,15 +35,15 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   options.Check();
   // Associate by nearest timestamp (ground truth sorted by time).
   std::vector<StampedPose> gt_sorted = ground_truth;
-  std::sort(gt_sorted.begin(), gt_sorted.end(),
-            [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  std::sort(gt_sorted.begin(), gt_sorted.end(), [](const StampedPose& a, const StampedPose& b) {
+    return a.timestamp_s < b.timestamp_s;
+  });
   std::vector<Rigid3d> est, gt;
   std::vector<long> gt_index;  // position in the time-sorted ground truth
   std::vector<double> stamps;
   for (const StampedPose& pose : estimate) {
-    auto it = std::lower_bound(
-        gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
-        [](const StampedPose& a, double t) { return a.timestamp_s < t; });
+    auto it = std::lower_bound(gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
+                               [](const StampedPose& a, double t) { return a.timestamp_s < t; });
     const StampedPose* best = nullptr;
     double best_dt = options.max_time_difference_s;
     for (auto candidate : {it, it == gt_sorted.begin() ? it : it - 1}) {

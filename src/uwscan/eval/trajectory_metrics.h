@@ -28,9 +28,9 @@ struct TrajectoryMetricsOptions {
 };
 
 struct TrajectoryMetrics {
-  int associated = 0;       // pose pairs used
-  double path_length_m = 0; // ground-truth path length over the associated poses
-  Sim3d alignment;          // ground_truth_world_from_estimate_world
+  int associated = 0;        // pose pairs used
+  double path_length_m = 0;  // ground-truth path length over the associated poses
+  Sim3d alignment;           // ground_truth_world_from_estimate_world
   // ATE on positions after alignment (m).
   double ate_rmse_m = 0, ate_mean_m = 0, ate_median_m = 0, ate_max_m = 0;
   // RPE per `rpe_step` (m, deg), after applying the alignment scale.

@@ -14,7 +14,8 @@ TEST(AlignSim3, RecoversAKnownSimilarity) {
   std::uniform_real_distribution<double> u(-5, 5);
   Sim3d truth;
   truth.scale = 2.5;
-  truth.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized()));
+  truth.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized()));
   truth.translation = Eigen::Vector3d(1, -2, 3);
   std::vector<Eigen::Vector3d> source, target;
   for (int i = 0; i < 20; ++i) {
@@ -86,8 +87,9 @@ TEST(TrajectoryMetrics, Sim3AlignmentShrinksTheNoisyEstimate) {
 TEST(TrajectoryMetrics, PerfectEstimateAndGaps) {
   std::vector<StampedPose> truth;
   for (int i = 0; i < 50; ++i) {
-    truth.push_back({0.1 * i, Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.05 * i, Eigen::Vector3d::UnitZ())),
-                                      Eigen::Vector3d(0.1 * i, std::sin(0.2 * i), 0.01 * i))});
+    truth.push_back(
+        {0.1 * i, Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.05 * i, Eigen::Vector3d::UnitZ())),
+                          Eigen::Vector3d(0.1 * i, std::sin(0.2 * i), 0.01 * i))});
   }
   std::vector<StampedPose> estimate;
   for (int i = 0; i < 50; ++i) {

@@ -45,7 +45,8 @@ VoBenchmarkResult RunVoBenchmark(const VoBenchmarkOptions& options) {
     const Eigen::Vector3d position(options.loop_radius_m * std::cos(angle),
                                    options.loop_radius_m * std::sin(angle),
                                    options.altitude_m + 0.05 * std::sin(3 * angle));
-    const Rigid3d pose = vo::testing::DownwardPose(position, angle + M_PI / 2, 0.02 * std::sin(angle));
+    const Rigid3d pose =
+        vo::testing::DownwardPose(position, angle + M_PI / 2, 0.02 * std::sin(angle));
     render.noise_seed = unsigned(i);
     const auto t0 = std::chrono::steady_clock::now();
     const cv::Mat image = renderer.Render(pose, render);

@@ -11,7 +11,7 @@ namespace uwscan {
 
 struct VoBenchmarkOptions {
   int frames = 1000;
-  int width = 640;             // height = 3/4 width
+  int width = 640;  // height = 3/4 width
   double d_air_m = 0.005;
   double speed_m_per_frame = 0.01;
   double altitude_m = 2.0;
@@ -25,8 +25,8 @@ struct VoBenchmarkResult {
   int frames = 0, tracked = 0, lost = 0, reinitialised = 0, keyframes = 0;
   double render_s = 0.0, vo_s = 0.0, tracking_s = 0.0;
   double vo_cpu_s = 0.0, tracking_cpu_s = 0.0;  // thread CPU time
-  double max_frame_s = 0.0;  // slowest ProcessFrame
-  std::vector<std::pair<int, long>> rss_kb;  // (frame, RSS)
+  double max_frame_s = 0.0;                     // slowest ProcessFrame
+  std::vector<std::pair<int, long>> rss_kb;     // (frame, RSS)
   int max_map_points = 0, max_keyframes = 0;
 };
 

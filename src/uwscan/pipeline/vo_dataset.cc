@@ -43,7 +43,8 @@ std::vector<VoFrameEntry> ParseFramesCsv(const std::string& text, const std::str
   UWS_CHECK(std::getline(in, line), source, ": empty file, expected a header line");
   const std::vector<std::string> header = SplitCsvLine(line);
   UWS_CHECK(header.size() >= 3 && header[0] == "index" && header[1] == "timestamp_s" &&
-                header[2] == "file" && (header.size() == 3 || (header.size() == 4 && header[3] == "laser_angle_rad")),
+                header[2] == "file" &&
+                (header.size() == 3 || (header.size() == 4 && header[3] == "laser_angle_rad")),
             source, ":1: header must be index,timestamp_s,file[,laser_angle_rad]");
   std::vector<VoFrameEntry> frames;
   int line_number = 1;

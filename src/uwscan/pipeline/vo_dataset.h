@@ -4,11 +4,10 @@
 #pragma once
 
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "uwscan/io/tum_trajectory.h"
 #include "uwscan/sensor/rig.h"

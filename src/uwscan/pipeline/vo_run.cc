@@ -109,7 +109,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       } catch (const Error& e) {
         warn("frame " + std::to_string(entry.index) + ": laser mask: " + e.what());
       }
-      summary.mask_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      summary.mask_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     vo::FrameResult result =
         odometry.ProcessFrame(TrackingImage(raw, rig_camera.bayer), mask, entry.timestamp_s);
@@ -122,11 +123,20 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     }
     if (result.world_from_camera) poses[i] = {entry.timestamp_s, *result.world_from_camera};
     switch (result.status) {
-      case vo::FrameStatus::kTracked: ++summary.tracked; break;
-      case vo::FrameStatus::kLost: ++summary.lost; break;
-      case vo::FrameStatus::kReinitialized: ++summary.reinitialised; break;
-      case vo::FrameStatus::kInvalid: ++summary.invalid; break;
-      case vo::FrameStatus::kInitializing: break;
+      case vo::FrameStatus::kTracked:
+        ++summary.tracked;
+        break;
+      case vo::FrameStatus::kLost:
+        ++summary.lost;
+        break;
+      case vo::FrameStatus::kReinitialized:
+        ++summary.reinitialised;
+        break;
+      case vo::FrameStatus::kInvalid:
+        ++summary.invalid;
+        break;
+      case vo::FrameStatus::kInitializing:
+        break;
     }
     if (result.status == vo::FrameStatus::kInvalid ||
         (result.status == vo::FrameStatus::kLost && !result.message.empty() &&
@@ -187,8 +197,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   }
   summary.rss_kb_end = CurrentRssKb();
   summary.peak_rss_kb = PeakRssKb();
-  summary.wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
 

@@ -15,10 +15,10 @@ namespace uwscan {
 
 struct VoJob {
   std::filesystem::path dataset_dir;
-  std::filesystem::path trajectory_out;          // TUM
+  std::filesystem::path trajectory_out;             // TUM
   std::optional<std::filesystem::path> status_out;  // frame,timestamp_s,status,...
-  std::string camera_name;                       // default: the first camera
-  std::string model = "flatport";                // flatport | pinhole
+  std::string camera_name;                          // default: the first camera
+  std::string model = "flatport";                   // flatport | pinhole
   // For --model pinhole on a flat-port rig: the best pinhole + Brown fitted
   // to the port on a plane at this depth (what a user calibrating a pinhole
   // in water would get; eval/port_analysis).
@@ -35,9 +35,9 @@ struct VoRunSummary {
   int frames = 0, posed = 0, tracked = 0, lost = 0, invalid = 0, reinitialised = 0;
   int keyframes = 0, gaps = 0, unreadable = 0;
   double wall_s = 0.0;
-  double vo_s = 0.0;        // inside Odometry::ProcessFrame
-  double tracking_s = 0.0;  // feature tracking part of it
-  double mask_s = 0.0;      // laser detection for the mask
+  double vo_s = 0.0;                            // inside Odometry::ProcessFrame
+  double tracking_s = 0.0;                      // feature tracking part of it
+  double mask_s = 0.0;                          // laser detection for the mask
   double vo_cpu_s = 0.0, tracking_cpu_s = 0.0;  // thread CPU time of the same
   long rss_kb_at_10_percent = 0, rss_kb_end = 0, peak_rss_kb = 0;
   std::vector<std::string> warnings;  // first few, for the CLI

@@ -123,8 +123,7 @@ SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
   for (size_t i = 1; i < poses.size(); ++i) {
     summary.path_length_m += (poses[i].translation - poses[i - 1].translation).norm();
   }
-  summary.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
 

@@ -13,13 +13,13 @@ namespace uwscan {
 struct SyntheticVoOptions {
   std::string scenario = "transect";  // transect | hover
   int frames = 600;
-  int width = 640;                    // height = 3/4 width; Flat1 scaled
-  double length_m = 20.0;             // transect length
+  int width = 640;         // height = 3/4 width; Flat1 scaled
+  double length_m = 20.0;  // transect length
   double altitude_m = 2.0;
-  double d_air_m = 0.005;             // Flat1: 5 mm (nearly the optimal air gap)
+  double d_air_m = 0.005;  // Flat1: 5 mm (nearly the optimal air gap)
   double frame_rate_hz = 30.0;
-  std::string medium = "clear";       // clear | medium (contrast, backscatter, noise)
-  bool laser = true;                  // draw a laser line (and put a laser in rig.yaml)
+  std::string medium = "clear";  // clear | medium (contrast, backscatter, noise)
+  bool laser = true;             // draw a laser line (and put a laser in rig.yaml)
   unsigned seed = 7;
   void Check() const;
 };

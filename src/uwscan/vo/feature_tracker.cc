@@ -69,8 +69,7 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
                              options_.klt_pyramid_levels, criteria);
     back = previous;
     cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, current, back, status_back, error, window,
-                             options_.klt_pyramid_levels, criteria,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
+                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
     std::vector<vo::FeatureTrack> kept;
     kept.reserve(tracks_.size());
     const double b = options_.border_px;
@@ -144,8 +143,10 @@ int FeatureTracker::Detect(const cv::Mat& mask, TrackingStats* stats) {
       const int cell = cy * cols + cx;
       const int quota = options_.max_per_cell - count[cell];
       if (quota <= 0) continue;
-      const int x0 = std::max(border, int(cx * cell_w)), x1 = std::min(gray.cols - border, int((cx + 1) * cell_w));
-      const int y0 = std::max(border, int(cy * cell_h)), y1 = std::min(gray.rows - border, int((cy + 1) * cell_h));
+      const int x0 = std::max(border, int(cx * cell_w)),
+                x1 = std::min(gray.cols - border, int((cx + 1) * cell_w));
+      const int y0 = std::max(border, int(cy * cell_h)),
+                y1 = std::min(gray.rows - border, int((cy + 1) * cell_h));
       candidates.clear();
       float cell_max = 0.f;
       for (int y = y0; y < y1; ++y) {

@@ -6,11 +6,10 @@
 // tracks that land on them.
 #pragma once
 
-#include <opencv2/core.hpp>
-#include <cstdint>
-#include <vector>
-
 #include <Eigen/Core>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
 
 namespace uwscan::vo {
 
@@ -39,11 +38,11 @@ struct FeatureTrack {
 };
 
 struct TrackingStats {
-  int tracked = 0;       // survived this frame
-  int lost_klt = 0;      // KLT failure or forward-backward error
-  int lost_border = 0;   // left the image
-  int lost_mask = 0;     // landed on masked pixels
-  int detected = 0;      // new features
+  int tracked = 0;      // survived this frame
+  int lost_klt = 0;     // KLT failure or forward-backward error
+  int lost_border = 0;  // left the image
+  int lost_mask = 0;    // landed on masked pixels
+  int detected = 0;     // new features
 };
 
 class FeatureTracker {
@@ -60,7 +59,9 @@ class FeatureTracker {
   void RemoveTracks(const std::vector<uint64_t>& ids);
 
   const std::vector<FeatureTrack>& tracks() const { return tracks_; }
-  int target_count() const { return options_.grid_cols * options_.grid_rows * options_.max_per_cell; }
+  int target_count() const {
+    return options_.grid_cols * options_.grid_rows * options_.max_per_cell;
+  }
   const FeatureTrackerOptions& options() const { return options_; }
 
  private:

@@ -51,7 +51,7 @@ TEST_F(FeatureTrackerTest, TracksRenderedMotionWithKnownFlow) {
     EXPECT_GT((t.pixel - it->pixel).norm(), 3.0);  // it really moved
   }
   std::sort(errors.begin(), errors.end());
-  EXPECT_LT(errors[errors.size() / 2], 0.1);        // median
+  EXPECT_LT(errors[errors.size() / 2], 0.1);         // median
   EXPECT_LT(errors[errors.size() * 95 / 100], 0.3);  // 95th percentile
 }
 

@@ -166,8 +166,8 @@ double MaxRayAngle(const std::vector<Ray>& rays_world) {
   double min_cos = 1.0;
   for (size_t i = 0; i < rays_world.size(); ++i) {
     for (size_t j = i + 1; j < rays_world.size(); ++j) {
-      min_cos = std::min(min_cos, rays_world[i].direction.normalized().dot(
-                                      rays_world[j].direction.normalized()));
+      min_cos = std::min(
+          min_cos, rays_world[i].direction.normalized().dot(rays_world[j].direction.normalized()));
     }
   }
   return std::acos(std::clamp(min_cos, -1.0, 1.0));

@@ -40,9 +40,9 @@ RelativePoseResult EstimateRelativePose(const std::vector<Ray>& rays1,
 // decomposeHomographyMat on the central approximation): a near-planar sea
 // floor makes the five-point solution ambiguous, so the initialisation
 // refines every candidate and keeps the best. Translations are unit.
-std::vector<RelativePoseResult> RelativePosesFromHomography(const std::vector<Ray>& rays1,
-                                                            const std::vector<Ray>& rays2,
-                                                            const RelativePoseOptions& options = {});
+std::vector<RelativePoseResult> RelativePosesFromHomography(
+    const std::vector<Ray>& rays1, const std::vector<Ray>& rays2,
+    const RelativePoseOptions& options = {});
 
 enum class AbsolutePoseSolver { kP3P, kGP3P };
 

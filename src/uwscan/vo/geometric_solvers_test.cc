@@ -26,8 +26,8 @@ struct Scene {
 
 // Points on a bumpy floor 1.5-2.5 m in front of the camera, projected
 // exactly through the port plus Gaussian pixel noise.
-Scene MakeScene(const Camera& camera, const Rigid3d& camera_from_world, int count,
-                double noise_px, unsigned seed) {
+Scene MakeScene(const Camera& camera, const Rigid3d& camera_from_world, int count, double noise_px,
+                unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, camera.width - 1), v(0, camera.height - 1),
       depth(1.5, 2.5);
@@ -105,17 +105,18 @@ TEST(RelativePose, FivePointRecoversMotion) {
   EXPECT_GE(result.num_inliers, 180);
   EXPECT_LT(RotationErrorDeg(result.camera2_from_camera1, cam2_from_cam1), 0.5);
   const double direction_error_deg =
-      std::acos(std::clamp(result.camera2_from_camera1.translation.dot(
-                               cam2_from_cam1.translation.normalized()),
-                           -1.0, 1.0)) *
+      std::acos(std::clamp(
+          result.camera2_from_camera1.translation.dot(cam2_from_cam1.translation.normalized()),
+          -1.0, 1.0)) *
       180.0 / M_PI;
   EXPECT_LT(direction_error_deg, 2.0);
 }
 
 TEST(Triangulation, IntersectsRefractedRaysExactly) {
   const Camera camera = DeepPortCamera();
-  const Rigid3d cam2_from_world(Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY())),
-                                Eigen::Vector3d(-0.3, 0, 0));
+  const Rigid3d cam2_from_world(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY())),
+      Eigen::Vector3d(-0.3, 0, 0));
   const Scene scene = MakeScene(camera, Rigid3d(), 50, 0.0, 4);
   const Rigid3d world_from_cam2 = cam2_from_world.Inverse();
   for (size_t i = 0; i < scene.points_world.size(); ++i) {
@@ -123,8 +124,7 @@ TEST(Triangulation, IntersectsRefractedRaysExactly) {
     if (!pixel2 || !camera.InImage(*pixel2)) continue;
     const Ray ray2 = *camera.BackProject(*pixel2);
     const std::vector<Ray> rays = {
-        scene.rays[i],
-        {world_from_cam2 * ray2.origin, world_from_cam2.rotation * ray2.direction}};
+        scene.rays[i], {world_from_cam2 * ray2.origin, world_from_cam2.rotation * ray2.direction}};
     const auto point = TriangulateRays(rays);
     ASSERT_TRUE(point.has_value());
     EXPECT_LT((*point - scene.points_world[i]).norm(), 1e-7);

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <limits>
-#include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <unordered_set>
 
@@ -39,11 +39,16 @@ Ray ToWorld(const Rigid3d& world_from_camera, const Ray& ray) {
 
 const char* FrameStatusName(FrameStatus status) {
   switch (status) {
-    case FrameStatus::kInitializing: return "initializing";
-    case FrameStatus::kTracked: return "tracked";
-    case FrameStatus::kLost: return "lost";
-    case FrameStatus::kReinitialized: return "reinitialized";
-    case FrameStatus::kInvalid: return "invalid";
+    case FrameStatus::kInitializing:
+      return "initializing";
+    case FrameStatus::kTracked:
+      return "tracked";
+    case FrameStatus::kLost:
+      return "lost";
+    case FrameStatus::kReinitialized:
+      return "reinitialized";
+    case FrameStatus::kInvalid:
+      return "invalid";
   }
   return "?";
 }
@@ -162,8 +167,8 @@ double Odometry::MedianDepth(const Keyframe& keyframe) const {
 std::optional<SparseMap> Odometry::BuildTwoViewMap(const RelativePoseResult& relative,
                                                    const std::vector<Ray>& rays1,
                                                    const std::vector<Ray>& rays2,
-                                                   const std::vector<uint64_t>& ids,
-                                                   bool first_map, double* rms_px) const {
+                                                   const std::vector<uint64_t>& ids, bool first_map,
+                                                   double* rms_px) const {
   // Two keyframes: the reference at the origin, the current one from the
   // relative pose (unit baseline); triangulate the inliers.
   SparseMap map;
@@ -284,7 +289,8 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   const Rigid3d world_from_kf0 = first_map ? Rigid3d() : last_camera_from_world_.Inverse();
   const Rigid3d kf0_from_world = world_from_kf0.Inverse();
   for (Keyframe& kf : map_.keyframes) kf.camera_from_world = kf.camera_from_world * kf0_from_world;
-  for (auto& [id, point] : map_.points) point.position_world = world_from_kf0 * point.position_world;
+  for (auto& [id, point] : map_.points)
+    point.position_world = world_from_kf0 * point.position_world;
   next_keyframe_id_ += 2;
   ++num_maps_;
   state_ = State::kTracking;
@@ -387,11 +393,11 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     return;
   }
   // A pose that jumps far from the last one is not believed.
-  const double step = (camera_from_world.Inverse().translation -
-                       last_camera_from_world_.Inverse().translation).norm();
+  const double step =
+      (camera_from_world.Inverse().translation - last_camera_from_world_.Inverse().translation)
+          .norm();
   if (step > options_.max_step_depth_ratio * last_median_depth_) {
-    MarkLost("implausible jump of " + std::to_string(step / last_median_depth_) +
-                 " median depths",
+    MarkLost("implausible jump of " + std::to_string(step / last_median_depth_) + " median depths",
              result);
     return;
   }
@@ -406,10 +412,9 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     const auto it = last.observations.find(tr.id);
     if (it != last.observations.end()) flow.push_back((tr.pixel - it->second).norm());
   }
-  const bool keyframe =
-      Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
-      inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
-      (options_.keyframe_on_range_constraints && !ranges.empty());
+  const bool keyframe = Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
+                        inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
+                        (options_.keyframe_on_range_constraints && !ranges.empty());
   if (keyframe) AddKeyframe(camera_from_world, mask, ranges, result);
 }
 

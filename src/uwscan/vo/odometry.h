@@ -80,7 +80,7 @@ struct FrameResult {
   std::vector<std::pair<int, Rigid3d>> earlier_poses;
   TrackingStats tracking;
   BundleAdjustmentSummary bundle_adjustment;  // when keyframe
-  double tracking_time_s = 0.0;  // features only (wall clock)
+  double tracking_time_s = 0.0;               // features only (wall clock)
   double total_time_s = 0.0;
   // The same as CPU time of the calling thread: on a shared machine this
   // is the cost of the frame, the wall clock includes waiting for a core.

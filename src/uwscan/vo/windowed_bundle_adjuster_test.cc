@@ -31,8 +31,7 @@ TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
        {ProjectionMethod::kExact, ProjectionMethod::kTaylor, ProjectionMethod::kPinhole}) {
     std::unique_ptr<ceres::CostFunction> cost(
         ReprojectionCost::Create(params, method, 2, observed, 0.5));
-    EXPECT_EQ(CheckJacobians(*cost, {rotation, translation, point}, 1e-6), "")
-        << int(method);
+    EXPECT_EQ(CheckJacobians(*cost, {rotation, translation, point}, 1e-6), "") << int(method);
   }
   std::unique_ptr<ceres::CostFunction> range(
       RangeCost::Create(camera.BackProject(observed)->origin, 2.1, 0.002));
@@ -58,7 +57,8 @@ Synthetic MakeWindow(const Camera& camera, double noise_px, unsigned seed) {
   std::normal_distribution<double> noise(0.0, noise_px);
   Synthetic s;
   for (int k = 0; k < 5; ++k) {
-    const Eigen::Quaterniond q(Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d(0.3, 1, 0).normalized()));
+    const Eigen::Quaterniond q(
+        Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d(0.3, 1, 0).normalized()));
     s.truth.push_back(Rigid3d(q, -(q * Eigen::Vector3d(0.25 * k, 0.02 * k, 0))));
   }
   for (uint64_t id = 1; id <= 300; ++id) s.points[id] = Eigen::Vector3d(x(rng), y(rng), z(rng));
@@ -80,9 +80,9 @@ Synthetic MakeWindow(const Camera& camera, double noise_px, unsigned seed) {
 double MaxPoseError(const Synthetic& s) {
   double worst = 0;
   for (size_t k = 0; k < s.truth.size(); ++k) {
-    worst = std::max(worst, (s.map.keyframes[k].WorldFromCamera().translation -
-                             s.truth[k].Inverse().translation)
-                                .norm());
+    worst = std::max(
+        worst, (s.map.keyframes[k].WorldFromCamera().translation - s.truth[k].Inverse().translation)
+                   .norm());
   }
   return worst;
 }
@@ -98,9 +98,11 @@ TEST(WindowedBundleAdjustment, ConvergesFromPerturbedPosesAndPoints) {
       kf.camera_from_world.translation += 0.01 * Eigen::Vector3d(n(rng), n(rng), n(rng));
       kf.camera_from_world.rotation =
           kf.camera_from_world.rotation *
-          Eigen::Quaterniond(Eigen::AngleAxisd(0.01, Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized()));
+          Eigen::Quaterniond(
+              Eigen::AngleAxisd(0.01, Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized()));
     }
-    for (auto& [id, p] : s.map.points) p.position_world += 0.02 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+    for (auto& [id, p] : s.map.points)
+      p.position_world += 0.02 * Eigen::Vector3d(n(rng), n(rng), n(rng));
     BundleAdjustmentOptions options;
     options.method = method;
     options.taylor_iterations = 3;

@@ -80,7 +80,8 @@ std::optional<Eigen::Vector3d> PlaneRenderer::PointAt(const Rigid3d& world_from_
 cv::Mat PlaneRenderer::Render(const Rigid3d& world_from_camera,
                               const RenderOptions& options) const {
   const TerrainOptions& t = terrain_.options();
-  cv::Mat map_x(camera_.height, camera_.width, CV_32F), map_y(camera_.height, camera_.width, CV_32F);
+  cv::Mat map_x(camera_.height, camera_.width, CV_32F),
+      map_y(camera_.height, camera_.width, CV_32F);
   const Eigen::Matrix3d rotation = world_from_camera.RotationMatrix();
   for (int v = 0; v < camera_.height; ++v) {
     float* mx = map_x.ptr<float>(v);
@@ -107,7 +108,8 @@ cv::Mat PlaneRenderer::Render(const Rigid3d& world_from_camera,
   }
   if (options.laser_column_px >= 0) {
     for (int v = 0; v < sampled.rows; ++v) {
-      const double center = options.laser_column_px + options.laser_slope * (v - sampled.rows / 2.0);
+      const double center =
+          options.laser_column_px + options.laser_slope * (v - sampled.rows / 2.0);
       float* row = sampled.ptr<float>(v);
       for (int u = std::max(0, int(center - 4 * options.laser_width_px));
            u < std::min(sampled.cols, int(center + 4 * options.laser_width_px) + 1); ++u) {
