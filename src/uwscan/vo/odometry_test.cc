@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-
 #include "uwscan/eval/port_analysis.h"
 #include "uwscan/eval/trajectory_metrics.h"
 #include "uwscan/vo/testing/plane_renderer.h"
@@ -147,6 +146,57 @@ TEST(Odometry, RecoversAfterBlackFrame) {
   EXPECT_TRUE(lost);
   EXPECT_TRUE(reinitialised);
   EXPECT_EQ(out.results.back().status, FrameStatus::kTracked);
+}
+
+TEST(Odometry, RangeConstraintsMakeTheTrajectoryMetric) {
+  // Start with a wrong scale prior (1 m instead of 2 m) and feed laser-like
+  // ranges of tracked map points every 5th frame: the windowed BA pulls the
+  // map and trajectory to metric scale.
+  const Camera camera = testing::ScaledCamera(Camera::Flat1(), 0.25);
+  const TexturedTerrain terrain(SmallTerrain());
+  PlaneRenderer renderer(camera, terrain);
+  const auto poses = testing::TransectPoses(60, 1.5, 2.0);
+  OdometryOptions options;
+  options.initial_median_depth_m = 1.0;
+  Odometry odometry(camera, options);
+  std::vector<StampedPose> estimate, truth;
+  int constrained = 0;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    std::vector<RangeConstraint> ranges;
+    const cv::Mat image = renderer.Render(poses[i]);
+    // Ranges refer to the pixels tracked in a frame: on constrained frames,
+    // track first, measure the true ranges of the tracked map points, then
+    // pass the same image again (zero motion) with the constraints.
+    FrameResult r = odometry.ProcessFrame(image, cv::Mat(), 0.1 * double(i));
+    if (i % 5 == 0 && r.status == FrameStatus::kTracked) {
+      ranges.clear();
+      for (const auto& track : odometry.tracks()) {
+        if (!odometry.map().FindPoint(track.id) || ranges.size() >= 20) continue;
+        const auto point = renderer.PointAt(poses[i], track.pixel);
+        const auto ray = camera.BackProject(track.pixel);
+        if (!point || !ray) continue;
+        ranges.push_back({track.id, (poses[i].Inverse() * *point - ray->origin).norm(), 0.002});
+      }
+      constrained += int(ranges.size());
+      r = odometry.ProcessFrame(image, cv::Mat(), 0.1 * double(i) + 0.01, ranges);
+      EXPECT_TRUE(r.keyframe);
+      EXPECT_GT(r.bundle_adjustment.range_residuals, 0);
+    }
+    for (const auto& [index, pose] : r.earlier_poses) estimate.push_back({-1.0, pose});
+    if (r.world_from_camera) estimate.push_back({0.1 * double(i), *r.world_from_camera});
+    truth.push_back({0.1 * double(i), poses[i]});
+  }
+  EXPECT_GT(constrained, 100);
+  TrajectoryMetricsOptions metrics_options;
+  metrics_options.max_time_difference_s = 0.011;
+  std::vector<StampedPose> late;  // the last 30 frames: after the scale has converged
+  for (const auto& pose : estimate) {
+    if (pose.timestamp_s >= 3.0) late.push_back(pose);
+  }
+  const TrajectoryMetrics m = ComputeTrajectoryMetrics(late, truth, metrics_options);
+  printf("scale of the estimate: %.4f (1 = metric), ATE %.2f mm\n", m.alignment.scale,
+         1e3 * m.ate_rmse_m);
+  EXPECT_NEAR(m.alignment.scale, 1.0, 0.02);
 }
 
 }  // namespace
