@@ -125,10 +125,12 @@ void RegisterVoCommand(CLI::App& app) {
                  s.keyframes, s.gaps, out->c_str());
     std::fprintf(stderr,
                  "speed (CPU time): VO %.1f frames/s, tracking alone %.1f frames/s; wall clock: VO "
-                 "%.1f frames/s; laser mask %.1f ms/frame; total %.1f s incl. image reading\n",
+                 "%.1f frames/s; windowed BA %.1f ms/frame (wall); laser mask %.1f ms/frame; total "
+                 "%.1f s incl. image reading\n",
                  s.frames / std::max(s.vo_cpu_s, 1e-9), s.frames / std::max(s.tracking_cpu_s, 1e-9),
-                 s.frames / std::max(s.vo_s, 1e-9), 1e3 * s.mask_s / std::max(s.frames, 1),
-                 s.wall_s);
+                 s.frames / std::max(s.vo_s, 1e-9),
+                 1e3 * s.bundle_adjustment_s / std::max(s.frames, 1),
+                 1e3 * s.mask_s / std::max(s.frames, 1), s.wall_s);
     std::fprintf(stderr, "memory: RSS %ld kB at 10 %% of the run, %ld kB at the end, peak %ld kB\n",
                  s.rss_kb_at_10_percent, s.rss_kb_end, s.peak_rss_kb);
     if (s.metrics) std::fprintf(stderr, "%s", FormatTrajectoryMetrics(*s.metrics).c_str());

@@ -117,6 +117,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     summary.vo_s += result.total_time_s;
     summary.tracking_s += result.tracking_time_s;
     summary.vo_cpu_s += result.total_cpu_s;
+    summary.bundle_adjustment_s += result.bundle_adjustment.time_s;
     summary.tracking_cpu_s += result.tracking_cpu_s;
     for (const auto& [frame, pose] : result.earlier_poses) {
       poses[frame] = {dataset.frames[size_t(frame)].timestamp_s, pose};

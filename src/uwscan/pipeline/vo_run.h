@@ -39,6 +39,7 @@ struct VoRunSummary {
   double tracking_s = 0.0;                      // feature tracking part of it
   double mask_s = 0.0;                          // laser detection for the mask
   double vo_cpu_s = 0.0, tracking_cpu_s = 0.0;  // thread CPU time of the same
+  double bundle_adjustment_s = 0.0;             // windowed BA (wall), part of vo_s
   long rss_kb_at_10_percent = 0, rss_kb_end = 0, peak_rss_kb = 0;
   std::vector<std::string> warnings;  // first few, for the CLI
   std::optional<TrajectoryMetrics> metrics;
