@@ -36,6 +36,8 @@ void RegisterVoCommand(CLI::App& app) {
       ->capture_default_str();
   vo->add_option("--window", job->odometry.ba.window_size, "keyframes in the windowed BA")
       ->capture_default_str();
+  vo->add_flag("--async-ba", job->odometry.async_bundle_adjustment,
+               "windowed BA on a second thread (frames are not held up by it)");
   vo->add_option("--max-frames", job->max_frames, "stop after this many frames");
   vo->add_flag("--quiet", job->quiet, "no progress and no summary");
 
@@ -79,6 +81,8 @@ void RegisterVoCommand(CLI::App& app) {
       ->capture_default_str();
   bench->add_option("--memory-every", bench_options->memory_every, "RSS sample interval (frames)")
       ->capture_default_str();
+  bench->add_flag("--async-ba", bench_options->async_bundle_adjustment,
+                  "windowed BA on a second thread");
   bench->add_flag("--quiet", bench_options->quiet, "no progress");
   bench->callback([=] {
     const VoBenchmarkResult r = RunVoBenchmark(*bench_options);

@@ -35,7 +35,9 @@ VoBenchmarkResult RunVoBenchmark(const VoBenchmarkOptions& options) {
   terrain_options.x_max_m = terrain_options.y_max_m = extent;
   const vo::testing::TexturedTerrain terrain(terrain_options);
   const vo::testing::PlaneRenderer renderer(camera, terrain);
-  vo::Odometry odometry(camera);
+  vo::OdometryOptions vo_options;
+  vo_options.async_bundle_adjustment = options.async_bundle_adjustment;
+  vo::Odometry odometry(camera, vo_options);
   vo::testing::RenderOptions render;
   render.noise_sigma = 1.0;
   VoBenchmarkResult result;

@@ -17,6 +17,7 @@ struct VoBenchmarkOptions {
   double altitude_m = 2.0;
   double loop_radius_m = 1.5;  // circles of this radius, over and over
   int memory_every = 1000;     // sample RSS every this many frames
+  bool async_bundle_adjustment = false;
   bool quiet = false;
   void Check() const;
 };

@@ -95,6 +95,8 @@ Odometry::Odometry(const Camera& camera, const OdometryOptions& options)
   camera_.Check("vo camera");
 }
 
+Odometry::~Odometry() { DiscardBundleAdjustment(); }
+
 FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
                                    const std::vector<RangeConstraint>& ranges) {
   const auto start = Clock::now();
@@ -148,6 +150,7 @@ void Odometry::MarkLost(const std::string& why, FrameResult* result) {
   result->message = why;
   result->world_from_camera.reset();
   if (state_ == State::kTracking) {
+    DiscardBundleAdjustment();
     if (!map_.keyframes.empty()) last_median_depth_ = MedianDepth(map_.keyframes.back());
     map_.Clear();
   }
@@ -317,6 +320,7 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
 
 void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ranges,
                      FrameResult* result) {
+  if (options_.async_bundle_adjustment) MergeBundleAdjustment(/*wait=*/false);
   std::vector<Ray> rays;
   std::vector<Eigen::Vector3d> points;
   std::vector<uint64_t> ids;
@@ -462,9 +466,13 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
     if (good) map_.points[id] = {id, *point, int(rays.size())};
   }
 
-  result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
-  tracker_.RemoveTracks(result->bundle_adjustment.removed_observations);
-  for (uint64_t id : result->bundle_adjustment.removed_observations) map_.points.erase(id);
+  if (options_.async_bundle_adjustment) {
+    MergeBundleAdjustment(/*wait=*/true);  // bounded: one BA in flight
+    LaunchBundleAdjustment();
+  } else {
+    result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
+    ApplyRemovedObservations(result->bundle_adjustment.removed_observations);
+  }
   while (int(map_.keyframes.size()) > window) map_.keyframes.pop_front();
   PruneMap();
   const Keyframe& adjusted = map_.keyframes.back();
@@ -474,6 +482,11 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
   int tracked_points = 0;
   for (const auto& t : tracker_.tracks()) tracked_points += map_.points.count(t.id) ? 1 : 0;
   last_keyframe_inliers_ = tracked_points;
+}
+
+void Odometry::ApplyRemovedObservations(const std::vector<uint64_t>& ids) {
+  tracker_.RemoveTracks(ids);
+  for (uint64_t id : ids) map_.points.erase(id);
 }
 
 void Odometry::PruneMap() {

@@ -11,6 +11,7 @@
 // BundleAdjustmentOptions, and read access to the map (keyframes, points).
 #pragma once
 
+#include <future>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -62,6 +63,12 @@ struct OdometryOptions {
   // camera is exact only at metric scale (its ray origins on the port are in
   // metres), so the map starts near it; range constraints then fix it.
   double initial_median_depth_m = 2.0;
+  // Run the windowed BA of each keyframe on a second thread (on a copy of
+  // the window) and merge its result when it is done; the next keyframe
+  // waits for it. Frames are then not held up by the BA (the thesis's
+  // 144 Hz needs this); results depend on thread timing, so it is off by
+  // default. extra_residuals is then called on that thread.
+  bool async_bundle_adjustment = false;
   void Check() const;
 };
 
@@ -91,6 +98,9 @@ struct FrameResult {
 class Odometry {
  public:
   Odometry(const Camera& camera, const OdometryOptions& options = {});
+  ~Odometry();
+  Odometry(const Odometry&) = delete;
+  Odometry& operator=(const Odometry&) = delete;
 
   // `image`: 8-bit grey, 16-bit grey or 8-bit colour (green channel is
   // used), of the camera's size. `mask`: empty or CV_8U of the image size,
@@ -123,6 +133,16 @@ class Odometry {
   void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
                    const std::vector<RangeConstraint>& ranges, FrameResult* result);
   void PruneMap();
+  // Asynchronous BA (odometry_async.cc).
+  struct AdjustedWindow {
+    SparseMap window;
+    BundleAdjustmentSummary summary;
+  };
+  void LaunchBundleAdjustment();
+  // Merges a finished BA (or waits for it with `wait`); false if none merged.
+  bool MergeBundleAdjustment(bool wait);
+  void DiscardBundleAdjustment();
+  void ApplyRemovedObservations(const std::vector<uint64_t>& ids);
   double MedianDepth(const Keyframe& keyframe) const;
 
   Camera camera_;
@@ -138,6 +158,7 @@ class Odometry {
   int last_keyframe_inliers_ = 0;
   Rigid3d last_camera_from_world_;  // last emitted pose
   double last_median_depth_ = 2.0;  // scale carried over a re-initialisation
+  std::future<AdjustedWindow> pending_ba_;
 };
 
 // 8-bit grey view of a frame (16-bit scaled, colour -> green channel); empty

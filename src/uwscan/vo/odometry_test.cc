@@ -74,6 +74,19 @@ TEST(Odometry, FlatPortTransectHasLowDrift) {
   EXPECT_LT(m.ate_rmse_m, 0.01);
 }
 
+TEST(Odometry, AsynchronousBundleAdjustmentKeepsTheAccuracy) {
+  const Camera camera = testing::ScaledCamera(Camera::Flat1(), 0.25);
+  const TexturedTerrain terrain(SmallTerrain());
+  const auto poses = testing::TransectPoses(60, 1.5, 2.0);
+  OdometryOptions options;
+  options.async_bundle_adjustment = true;
+  const RunOutput out = RunSequence(camera, camera, poses, terrain, options);
+  const TrajectoryMetrics m = ComputeTrajectoryMetrics(out.estimate, out.truth);
+  printf("async BA: ATE %.2f mm, drift %.3f %%\n", 1e3 * m.ate_rmse_m, m.drift_trans_percent);
+  EXPECT_GE(m.associated, 55);
+  EXPECT_LT(m.ate_rmse_m, 0.005);
+}
+
 TEST(Odometry, PinholeModelBendsTheTrajectory) {
   // A housing with the lens 3 cm behind the port, far from the optimal air
   // gap of eq. 4.27 (Flat1's 5 mm is nearly optimal: its best pinhole is
