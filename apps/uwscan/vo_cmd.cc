@@ -36,6 +36,11 @@ void RegisterVoCommand(CLI::App& app) {
       ->capture_default_str();
   vo->add_option("--window", job->odometry.ba.window_size, "keyframes in the windowed BA")
       ->capture_default_str();
+  vo->add_option("--klt-window", job->odometry.tracker.klt_window_px, "KLT window (px, odd)")
+      ->capture_default_str();
+  vo->add_option("--per-cell", job->odometry.tracker.max_per_cell,
+                 "features per grid cell (8x6 grid)")
+      ->capture_default_str();
   vo->add_flag("--async-ba", job->odometry.async_bundle_adjustment,
                "windowed BA on a second thread (frames are not held up by it)");
   vo->add_option("--max-frames", job->max_frames, "stop after this many frames");
@@ -80,6 +85,8 @@ void RegisterVoCommand(CLI::App& app) {
   bench->add_option("--step", bench_options->speed_m_per_frame, "motion per frame (m)")
       ->capture_default_str();
   bench->add_option("--memory-every", bench_options->memory_every, "RSS sample interval (frames)")
+      ->capture_default_str();
+  bench->add_option("--klt-window", bench_options->klt_window_px, "KLT window (px, odd)")
       ->capture_default_str();
   bench->add_flag("--async-ba", bench_options->async_bundle_adjustment,
                   "windowed BA on a second thread");

@@ -37,6 +37,7 @@ VoBenchmarkResult RunVoBenchmark(const VoBenchmarkOptions& options) {
   const vo::testing::PlaneRenderer renderer(camera, terrain);
   vo::OdometryOptions vo_options;
   vo_options.async_bundle_adjustment = options.async_bundle_adjustment;
+  vo_options.tracker.klt_window_px = options.klt_window_px;
   vo::Odometry odometry(camera, vo_options);
   vo::testing::RenderOptions render;
   render.noise_sigma = 1.0;

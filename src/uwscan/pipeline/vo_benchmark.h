@@ -18,6 +18,7 @@ struct VoBenchmarkOptions {
   double loop_radius_m = 1.5;  // circles of this radius, over and over
   int memory_every = 1000;     // sample RSS every this many frames
   bool async_bundle_adjustment = false;
+  int klt_window_px = 21;
   bool quiet = false;
   void Check() const;
 };
