@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "uwscan/vo/odometry.h"
 #include "uwscan/vo/testing/plane_renderer.h"
 
 namespace uwscan::vo {
@@ -92,6 +93,19 @@ TEST_F(FeatureTrackerTest, NoFeaturesOnBlackOrTexturelessFrames) {
   EXPECT_EQ(tracker.Detect(cv::Mat()), 0);
   // Wrong-type input is a caller error.
   EXPECT_ANY_THROW(tracker.Track(cv::Mat(10, 10, CV_32F), cv::Mat()));
+}
+
+TEST(ToGray8, ScalesByTheUsedBitDepth) {
+  cv::Mat twelve_bit(4, 4, CV_16U, cv::Scalar(2048));
+  twelve_bit.at<uint16_t>(0, 0) = 4095;
+  const cv::Mat gray = ToGray8(twelve_bit);
+  ASSERT_EQ(gray.type(), CV_8UC1);
+  EXPECT_EQ(gray.at<uint8_t>(1, 1), 128);
+  EXPECT_EQ(gray.at<uint8_t>(0, 0), 255);
+  cv::Mat colour(4, 4, CV_8UC3, cv::Scalar(10, 20, 30));
+  EXPECT_EQ(ToGray8(colour).at<uint8_t>(2, 2), 20);  // green
+  EXPECT_TRUE(ToGray8(cv::Mat(4, 4, CV_32F)).empty());
+  EXPECT_TRUE(ToGray8(cv::Mat()).empty());
 }
 
 }  // namespace

@@ -83,7 +83,13 @@ cv::Mat ToGray8(const cv::Mat& image) {
   }
   if (channel.depth() == CV_8U) return channel;
   if (channel.depth() == CV_16U) {
-    channel.convertTo(gray, CV_8U, 1.0 / 256.0);
+    // 10/12/14-bit data is stored in 16 bits: scale by the bit depth the
+    // frame uses (next power of two above its maximum), not by 1/256.
+    double max_value = 0;
+    cv::minMaxLoc(channel, nullptr, &max_value);
+    double full_scale = 256.0;
+    while (full_scale <= max_value && full_scale < 65536.0) full_scale *= 2.0;
+    channel.convertTo(gray, CV_8U, 256.0 / full_scale);
     return gray;
   }
   return gray;

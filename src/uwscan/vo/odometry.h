@@ -161,8 +161,8 @@ class Odometry {
   std::future<AdjustedWindow> pending_ba_;
 };
 
-// 8-bit grey view of a frame (16-bit scaled, colour -> green channel); empty
-// if the type is unsupported.
+// 8-bit grey view of a frame (16-bit scaled by its used bit depth, colour ->
+// green channel); empty if the type is unsupported.
 cv::Mat ToGray8(const cv::Mat& image);
 
 }  // namespace uwscan::vo
