@@ -15,5 +15,6 @@ void RegisterSimulateCommand(CLI::App& app);
 void RegisterReconstructCommand(CLI::App& app);
 void RegisterEvaluateCommand(CLI::App& app);
 void RegisterCalibrateCommands(CLI::App& app);
+void RegisterVoCommand(CLI::App& app);
 
 }  // namespace uwscan::cli

@@ -1,36 +1,82 @@
-// uwscan evaluate: a reconstruction against a simulated dataset's truth.
+// uwscan evaluate --dataset DIR (--trajectory T.tum | --result OUT): a result
+// against the dataset's ground truth: the trajectory (ATE after Sim(3), RPE,
+// KITTI drift) and, for a reconstruction of a simulated dataset, its clouds
+// (plane/cylinder fits, distance and point errors, compensated vs not).
 #include <cstdio>
-#include <iostream>
+#include <filesystem>
 
 #include "commands.h"
+#include "uwscan/eval/trajectory_metrics.h"
+#include "uwscan/io/tum_trajectory.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/util/atomic_file.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan::cli {
+namespace {
+namespace fs = std::filesystem;
+
+void PrintCloudEvaluation(const ReconstructionEvaluation& evaluation) {
+  std::printf("%-16s %-12s %8s %12s %14s %12s\n", "cloud", "surface", "points", "fit std mm",
+              "point err mm", "dist err %");
+  for (const auto& [label, cloud] : {std::pair{"compensated", &evaluation.compensated},
+                                     std::pair{"uncompensated", &evaluation.uncompensated}}) {
+    std::printf("%-16s %-12s %8ld %12s %14.3f %12s\n", label, "(all)", cloud->matched, "",
+                cloud->point_error_rms_m * 1e3, "");
+    for (const auto& s : cloud->surfaces) {
+      if (s.points == 0) continue;
+      std::printf("%-16s %-12s %8ld %12.3f %14.3f %12.3f\n", label, s.name.c_str(), s.points,
+                  s.fit_rms_m * 1e3, s.point_error_rms_m * 1e3, s.distance_error_mean_pct);
+    }
+  }
+}
+
+}  // namespace
 
 void RegisterEvaluateCommand(CLI::App& app) {
+  auto* evaluate = app.add_subcommand(
+      "evaluate", "Compare a result with the dataset's ground truth (trajectory and clouds)");
   auto dataset = std::make_shared<std::string>();
+  auto trajectory = std::make_shared<std::string>();
   auto result = std::make_shared<std::string>();
   auto json_path = std::make_shared<std::string>();
-  auto* cmd = app.add_subcommand("evaluate", "Compare a reconstruction with the simulator's ground truth");
-  cmd->add_option("--dataset", *dataset, "simulated dataset (scene.yaml, groundtruth.tum)")->required();
-  cmd->add_option("--result", *result, "output folder of uwscan reconstruct")->required();
-  cmd->add_option("--json", *json_path, "also write the evaluation as JSON here");
-  cmd->callback([=] {
-    const auto evaluation = EvaluateReconstruction(*dataset, *result);
-    std::printf("%-16s %-12s %8s %12s %14s %12s\n", "cloud", "surface", "points", "fit std mm",
-                "point err mm", "dist err %");
-    for (const auto& [label, cloud] : {std::pair{"compensated", &evaluation.compensated},
-                                       std::pair{"uncompensated", &evaluation.uncompensated}}) {
-      std::printf("%-16s %-12s %8ld %12s %14.3f %12s\n", label, "(all)", cloud->matched, "",
-                  cloud->point_error_rms_m * 1e3, "");
-      for (const auto& s : cloud->surfaces) {
-        if (s.points == 0) continue;
-        std::printf("%-16s %-12s %8ld %12.3f %14.3f %12.3f\n", label, s.name.c_str(), s.points,
-                    s.fit_rms_m * 1e3, s.point_error_rms_m * 1e3, s.distance_error_mean_pct);
-      }
+  auto options = std::make_shared<TrajectoryMetricsOptions>();
+  auto se3 = std::make_shared<bool>(false);
+  evaluate->add_option("--dataset", *dataset, "dataset folder with groundtruth.tum")->required();
+  evaluate->add_option("--trajectory", *trajectory, "estimated trajectory (TUM)");
+  evaluate->add_option("--result", *result,
+                       "output folder of reconstruct (trajectory.tum, cloud.ply, cloud_uncompensated.ply)");
+  evaluate->add_option("--json", *json_path, "also write the cloud evaluation as JSON here");
+  evaluate->add_option("--lengths", options->drift_lengths_m,
+                       "drift path lengths in m (default: 10..50 % of the path)");
+  evaluate->add_option("--rpe-step", options->rpe_step, "RPE frame step")->capture_default_str();
+  evaluate
+      ->add_option("--max-dt", options->max_time_difference_s,
+                   "timestamp association tolerance (s)")
+      ->capture_default_str();
+  evaluate->add_option("--rpe-from", options->rpe_from_s, "RPE only from this time (s)");
+  evaluate->add_option("--rpe-to", options->rpe_to_s, "RPE only up to this time (s)");
+  evaluate->add_flag("--se3", *se3, "align without scale (metric trajectories)");
+  evaluate->callback([=] {
+    if (trajectory->empty() == result->empty()) {
+      throw UsageError("evaluate needs exactly one of --trajectory and --result");
     }
-    if (!json_path->empty()) WriteFileAtomic(*json_path, evaluation.ToJson().dump(2) + "\n");
+    const fs::path estimate_path =
+        trajectory->empty() ? fs::path(*result) / "trajectory.tum" : fs::path(*trajectory);
+    const fs::path truth_path = fs::path(*dataset) / "groundtruth.tum";
+    UWS_CHECK(fs::exists(truth_path), truth_path.string(), ": no ground truth");
+    options->align_scale = !*se3;
+    const TumTrajectory estimate = ReadTumTrajectory(estimate_path);
+    const TumTrajectory truth = ReadTumTrajectory(truth_path);
+    const TrajectoryMetrics metrics = ComputeTrajectoryMetrics(estimate.poses, truth.poses, *options);
+    std::printf("trajectory %s vs %s (%zu gaps marked)\n%s", estimate_path.c_str(),
+                truth_path.c_str(), estimate.gaps.size(), FormatTrajectoryMetrics(metrics).c_str());
+    if (!result->empty() && fs::exists(fs::path(*dataset) / "scene.yaml") &&
+        fs::exists(fs::path(*result) / "cloud.ply")) {
+      const auto evaluation = EvaluateReconstruction(*dataset, *result);
+      PrintCloudEvaluation(evaluation);
+      if (!json_path->empty()) WriteFileAtomic(*json_path, evaluation.ToJson().dump(2) + "\n");
+    }
   });
 }
 

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   uwscan::cli::RegisterReconstructCommand(app);
   uwscan::cli::RegisterEvaluateCommand(app);
   uwscan::cli::RegisterCalibrateCommands(app);
+  uwscan::cli::RegisterVoCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

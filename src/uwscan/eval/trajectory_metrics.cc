@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "uwscan/util/error.h"
 
@@ -34,13 +35,15 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   options.Check();
   // Associate by nearest timestamp (ground truth sorted by time).
   std::vector<StampedPose> gt_sorted = ground_truth;
-  std::sort(gt_sorted.begin(), gt_sorted.end(),
-            [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  std::sort(gt_sorted.begin(), gt_sorted.end(), [](const StampedPose& a, const StampedPose& b) {
+    return a.timestamp_s < b.timestamp_s;
+  });
   std::vector<Rigid3d> est, gt;
+  std::vector<long> gt_index;  // position in the time-sorted ground truth
+  std::vector<double> stamps;
   for (const StampedPose& pose : estimate) {
-    auto it = std::lower_bound(
-        gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
-        [](const StampedPose& a, double t) { return a.timestamp_s < t; });
+    auto it = std::lower_bound(gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
+                               [](const StampedPose& a, double t) { return a.timestamp_s < t; });
     const StampedPose* best = nullptr;
     double best_dt = options.max_time_difference_s;
     for (auto candidate : {it, it == gt_sorted.begin() ? it : it - 1}) {
@@ -51,6 +54,8 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     if (best == nullptr) continue;
     est.push_back(pose.world_from_camera);
     gt.push_back(best->world_from_camera);
+    gt_index.push_back(long(best - gt_sorted.data()));
+    stamps.push_back(pose.timestamp_s);
   }
   TrajectoryMetrics metrics;
   metrics.associated = int(est.size());
@@ -87,10 +92,14 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
   metrics.ate_median_m = errors[errors.size() / 2];
 
-  // RPE.
+  // RPE between ground-truth frames `rpe_step` apart (pairs across a
+  // tracking gap are skipped).
   double t_sq = 0, r_sq = 0, t_sum = 0, r_sum = 0;
-  for (size_t i = 0; i + options.rpe_step < est.size(); ++i) {
-    const size_t j = i + options.rpe_step;
+  for (size_t i = 0; i + 1 < est.size(); ++i) {
+    size_t j = i + 1;
+    while (j < est.size() && gt_index[j] - gt_index[i] < options.rpe_step) ++j;
+    if (j >= est.size() || gt_index[j] - gt_index[i] != options.rpe_step) continue;
+    if (stamps[i] < options.rpe_from_s || stamps[j] > options.rpe_to_s) continue;
     const Rigid3d error = RelativeError(gt[i], gt[j], aligned[i], aligned[j]);
     const double t = error.translation.norm(), r = AngleDeg(error.rotation);
     t_sq += t * t, r_sq += r * r, t_sum += t, r_sum += r;
@@ -133,6 +142,25 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     metrics.drift_rot_deg_per_m = r_drift / metrics.drift_segments;
   }
   return metrics;
+}
+
+std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
+  char buffer[1024];
+  std::snprintf(buffer, sizeof(buffer),
+                "poses: %d associated, ground-truth path %.3f m, Sim(3) scale %.6g\n"
+                "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n"
+                "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n"
+                "drift (KITTI, %d segments): %.3f %% translation, %.4f deg/m rotation\n",
+                m.associated, m.path_length_m, m.alignment.scale, m.ate_rmse_m, m.ate_mean_m,
+                m.ate_median_m, m.ate_max_m, 1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg,
+                m.rpe_pairs, m.drift_segments, m.drift_trans_percent, m.drift_rot_deg_per_m);
+  std::string out = buffer;
+  out += "drift lengths (m):";
+  for (double length : m.drift_lengths_m) {
+    std::snprintf(buffer, sizeof(buffer), " %.3g", length);
+    out += buffer;
+  }
+  return out + "\n";
 }
 
 }  // namespace uwscan

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "uwscan/geometry/sim3_alignment.h"
@@ -16,7 +17,10 @@ namespace uwscan {
 struct TrajectoryMetricsOptions {
   double max_time_difference_s = 1e-3;  // timestamp association tolerance
   bool align_scale = true;              // Sim(3); false: SE(3)
-  int rpe_step = 1;                     // RPE between frames i and i + step (associated poses)
+  int rpe_step = 1;                     // RPE between ground-truth frames i and i + step
+  // RPE only over pairs inside [rpe_from_s, rpe_to_s] (e.g. the hover part
+  // of a sequence); the alignment still uses every pose.
+  double rpe_from_s = -1e300, rpe_to_s = 1e300;
   // KITTI path lengths (m); empty = 10%, 20%, ..., 50% of the ground-truth path.
   std::vector<double> drift_lengths_m;
   int drift_start_step = 1;  // every k-th frame starts a drift segment (KITTI: 10)
@@ -24,9 +28,9 @@ struct TrajectoryMetricsOptions {
 };
 
 struct TrajectoryMetrics {
-  int associated = 0;       // pose pairs used
-  double path_length_m = 0; // ground-truth path length over the associated poses
-  Sim3d alignment;          // ground_truth_world_from_estimate_world
+  int associated = 0;        // pose pairs used
+  double path_length_m = 0;  // ground-truth path length over the associated poses
+  Sim3d alignment;           // ground_truth_world_from_estimate_world
   // ATE on positions after alignment (m).
   double ate_rmse_m = 0, ate_mean_m = 0, ate_median_m = 0, ate_max_m = 0;
   // RPE per `rpe_step` (m, deg), after applying the alignment scale.
@@ -44,5 +48,8 @@ struct TrajectoryMetrics {
 TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estimate,
                                            const std::vector<StampedPose>& ground_truth,
                                            const TrajectoryMetricsOptions& options = {});
+
+// Human-readable report (several lines) for the CLI.
+std::string FormatTrajectoryMetrics(const TrajectoryMetrics& metrics);
 
 }  // namespace uwscan

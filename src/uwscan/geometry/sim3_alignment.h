@@ -30,7 +30,6 @@ struct Sim3d {
 // target ~ sim * source. Needs >= 3 non-collinear points (>= 2 with
 // `with_scale = false` and a unique solution otherwise nullopt).
 std::optional<Sim3d> AlignSim3(const std::vector<Eigen::Vector3d>& source,
-                               const std::vector<Eigen::Vector3d>& target,
-                               bool with_scale = true);
+                               const std::vector<Eigen::Vector3d>& target, bool with_scale = true);
 
 }  // namespace uwscan

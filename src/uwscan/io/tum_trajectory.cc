@@ -63,7 +63,8 @@ std::string TumTrajectoryToText(const TumTrajectory& trajectory) {
     const Eigen::Quaterniond& q = pose.world_from_camera.rotation;
     const Eigen::Vector3d& t = pose.world_from_camera.translation;
     std::snprintf(buffer, sizeof(buffer), "%.9f %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
-                  pose.timestamp_s, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+                  pose.timestamp_s, t.x() + 0.0, t.y() + 0.0, t.z() + 0.0, q.x() + 0.0, q.y() + 0.0,
+                  q.z() + 0.0, q.w() + 0.0);  // + 0.0: no "-0"
     out += buffer;
   }
   return out;

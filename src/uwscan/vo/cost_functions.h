@@ -51,8 +51,11 @@ class ReprojectionCost {
  public:
   ReprojectionCost(const CameraParams& camera, ProjectionMethod method, int taylor_iterations,
                    const Eigen::Vector2d& observed, double sigma_px)
-      : camera_(camera), method_(camera.flat_port ? method : ProjectionMethod::kPinhole),
-        iterations_(taylor_iterations), observed_(observed), inverse_sigma_(1.0 / sigma_px) {}
+      : camera_(camera),
+        method_(camera.flat_port ? method : ProjectionMethod::kPinhole),
+        iterations_(taylor_iterations),
+        observed_(observed),
+        inverse_sigma_(1.0 / sigma_px) {}
 
   template <typename T>
   bool Project(const T* point_camera, T* pixel) const {
@@ -69,8 +72,8 @@ class ReprojectionCost {
       return FlatPortModel::ProjectExact(intrinsics, distortion, normal, port, point_camera, pixel);
     }
     const T start[2] = {T(observed_.x()), T(observed_.y())};
-    return FlatPortModel::ProjectTaylorFromPixel(intrinsics, distortion, normal, port,
-                                                 point_camera, start, iterations_, pixel);
+    return FlatPortModel::ProjectTaylorFromPixel(intrinsics, distortion, normal, port, point_camera,
+                                                 start, iterations_, pixel);
   }
 
   template <typename T>

@@ -70,8 +70,10 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
                              options_.klt_pyramid_levels, criteria);
     back = previous;
     cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, current, back, status_back, error, window,
-                             options_.klt_pyramid_levels, criteria,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
+                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    if (options_.anchor_refinement && !anchor_pyramid_.empty()) {
+      RefineFromAnchor(pyramid, window, criteria, &current);
+    }
     std::vector<vo::FeatureTrack> kept;
     kept.reserve(tracks_.size());
     const double b = options_.border_px;
@@ -96,7 +98,6 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
       kept.push_back(t);
     }
     tracks_.swap(kept);
-    if (options_.anchor_refinement && !anchor_pyramid_.empty()) RefineFromAnchor(pyramid, window, criteria);
   } else {
     tracks_.clear();
   }
@@ -115,13 +116,14 @@ void FeatureTracker::SetAnchor() {
 }
 
 void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
-                                      const cv::TermCriteria& criteria) {
+                                      const cv::TermCriteria& criteria,
+                                      std::vector<cv::Point2f>* current) {
   std::vector<cv::Point2f> from, to;
   std::vector<size_t> index;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     if (!tracks_[i].anchored) continue;
     from.emplace_back(float(tracks_[i].anchor_pixel.x()), float(tracks_[i].anchor_pixel.y()));
-    to.emplace_back(float(tracks_[i].pixel.x()), float(tracks_[i].pixel.y()));
+    to.push_back((*current)[i]);
     index.push_back(i);
   }
   if (from.empty()) return;
@@ -130,11 +132,10 @@ void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const
   cv::calcOpticalFlowPyrLK(anchor_pyramid_, pyramid, from, to, status, error, window,
                            options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
   for (size_t k = 0; k < index.size(); ++k) {
-    FeatureTrack& t = tracks_[index[k]];
-    const Eigen::Vector2d refined(to[k].x, to[k].y);
-    if (status[k] && refined.allFinite() &&
-        (refined - t.pixel).norm() <= options_.anchor_max_correction_px) {
-      t.pixel = refined;
+    cv::Point2f& p = (*current)[index[k]];
+    if (status[k] && std::isfinite(to[k].x) && std::isfinite(to[k].y) &&
+        cv::norm(to[k] - p) <= options_.anchor_max_correction_px) {
+      p = to[k];
     }
   }
 }
@@ -179,8 +180,10 @@ int FeatureTracker::Detect(const cv::Mat& mask, TrackingStats* stats) {
       const int cell = cy * cols + cx;
       const int quota = options_.max_per_cell - count[cell];
       if (quota <= 0) continue;
-      const int x0 = std::max(border, int(cx * cell_w)), x1 = std::min(gray.cols - border, int((cx + 1) * cell_w));
-      const int y0 = std::max(border, int(cy * cell_h)), y1 = std::min(gray.rows - border, int((cy + 1) * cell_h));
+      const int x0 = std::max(border, int(cx * cell_w)),
+                x1 = std::min(gray.cols - border, int((cx + 1) * cell_w));
+      const int y0 = std::max(border, int(cy * cell_h)),
+                y1 = std::min(gray.rows - border, int((cy + 1) * cell_h));
       candidates.clear();
       float cell_max = 0.f;
       for (int y = y0; y < y1; ++y) {

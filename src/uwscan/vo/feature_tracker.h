@@ -6,11 +6,10 @@
 // tracks that land on them.
 #pragma once
 
-#include <opencv2/core.hpp>
-#include <cstdint>
-#include <vector>
-
 #include <Eigen/Core>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
 
 namespace uwscan::vo {
 
@@ -28,7 +27,7 @@ struct FeatureTrackerOptions {
   double border_px = 8.0;            // tracks closer to the border are dropped
   // Minimum corner response in absolute terms (Harris on 8-bit images), so
   // that textureless or black frames yield no features rather than noise.
-  double min_harris_response = 1e-5;
+  double min_harris_response = 1e-7;
   // Drift-free tracking while the view changes little (a hovering
   // platform): every frame, tracks are refined by KLT directly from the
   // anchor image (the last keyframe) instead of only frame to frame, so
@@ -47,11 +46,11 @@ struct FeatureTrack {
 };
 
 struct TrackingStats {
-  int tracked = 0;       // survived this frame
-  int lost_klt = 0;      // KLT failure or forward-backward error
-  int lost_border = 0;   // left the image
-  int lost_mask = 0;     // landed on masked pixels
-  int detected = 0;      // new features
+  int tracked = 0;      // survived this frame
+  int lost_klt = 0;     // KLT failure or forward-backward error
+  int lost_border = 0;  // left the image
+  int lost_mask = 0;    // landed on masked pixels
+  int detected = 0;     // new features
 };
 
 class FeatureTracker {
@@ -70,7 +69,9 @@ class FeatureTracker {
   void RemoveTracks(const std::vector<uint64_t>& ids);
 
   const std::vector<FeatureTrack>& tracks() const { return tracks_; }
-  int target_count() const { return options_.grid_cols * options_.grid_rows * options_.max_per_cell; }
+  int target_count() const {
+    return options_.grid_cols * options_.grid_rows * options_.max_per_cell;
+  }
   const FeatureTrackerOptions& options() const { return options_; }
 
  private:
@@ -78,8 +79,10 @@ class FeatureTracker {
   std::vector<FeatureTrack> tracks_;
   std::vector<cv::Mat> previous_pyramid_;
   std::vector<cv::Mat> anchor_pyramid_;
+  // Refines the frame-to-frame positions `current` (one per track) by KLT
+  // from the anchor image, for the tracks seen there.
   void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
-                        const cv::TermCriteria& criteria);
+                        const cv::TermCriteria& criteria, std::vector<cv::Point2f>* current);
   cv::Mat previous_gray_;
   uint64_t next_id_ = 1;
 };

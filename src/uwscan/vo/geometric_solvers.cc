@@ -57,6 +57,46 @@ RelativePoseResult EstimateRelativePose(const std::vector<Ray>& rays1,
   return result;
 }
 
+std::vector<RelativePoseResult> RelativePosesFromHomography(const std::vector<Ray>& rays1,
+                                                            const std::vector<Ray>& rays2,
+                                                            const RelativePoseOptions& options) {
+  options.Check();
+  UWS_CHECK(rays1.size() == rays2.size(), "RelativePosesFromHomography: ray counts differ");
+  std::vector<RelativePoseResult> results;
+  if (rays1.size() < 8) return results;
+  std::vector<cv::Point2d> p1, p2;
+  for (size_t i = 0; i < rays1.size(); ++i) {
+    const Eigen::Vector3d& a = rays1[i].direction;
+    const Eigen::Vector3d& b = rays2[i].direction;
+    p1.emplace_back(a.x() / a.z(), a.y() / a.z());
+    p2.emplace_back(b.x() / b.z(), b.y() / b.z());
+  }
+  cv::Mat mask;
+  const cv::Mat homography =
+      cv::findHomography(p1, p2, cv::RANSAC, options.threshold_rad, mask, 2000, options.confidence);
+  if (homography.empty()) return results;
+  std::vector<cv::Mat> rotations, translations, normals;
+  cv::decomposeHomographyMat(homography, cv::Mat::eye(3, 3, CV_64F), rotations, translations,
+                             normals);
+  for (size_t k = 0; k < rotations.size(); ++k) {
+    Eigen::Matrix3d r;
+    Eigen::Vector3d t;
+    cv::cv2eigen(rotations[k], r);
+    cv::cv2eigen(translations[k], t);
+    if (!(t.norm() > 1e-9)) continue;
+    RelativePoseResult result;
+    result.camera2_from_camera1 = Rigid3d(Eigen::Quaterniond(r), t.normalized());
+    result.inliers.assign(rays1.size(), 0);
+    for (size_t i = 0; i < rays1.size(); ++i) {
+      result.inliers[i] = mask.at<uint8_t>(int(i)) != 0;
+      result.num_inliers += result.inliers[i];
+    }
+    result.success = true;
+    results.push_back(result);
+  }
+  return results;
+}
+
 AbsolutePoseResult EstimateAbsolutePose(const std::vector<Ray>& rays_camera,
                                         const std::vector<Eigen::Vector3d>& points_world,
                                         const AbsolutePoseOptions& options) {
@@ -126,8 +166,8 @@ double MaxRayAngle(const std::vector<Ray>& rays_world) {
   double min_cos = 1.0;
   for (size_t i = 0; i < rays_world.size(); ++i) {
     for (size_t j = i + 1; j < rays_world.size(); ++j) {
-      min_cos = std::min(min_cos, rays_world[i].direction.normalized().dot(
-                                      rays_world[j].direction.normalized()));
+      min_cos = std::min(
+          min_cos, rays_world[i].direction.normalized().dot(rays_world[j].direction.normalized()));
     }
   }
   return std::acos(std::clamp(min_cos, -1.0, 1.0));

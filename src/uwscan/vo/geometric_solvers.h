@@ -36,6 +36,14 @@ RelativePoseResult EstimateRelativePose(const std::vector<Ray>& rays1,
                                         const std::vector<Ray>& rays2,
                                         const RelativePoseOptions& options = {});
 
+// The (up to four) motions of a homography between the rays (OpenCV
+// decomposeHomographyMat on the central approximation): a near-planar sea
+// floor makes the five-point solution ambiguous, so the initialisation
+// refines every candidate and keeps the best. Translations are unit.
+std::vector<RelativePoseResult> RelativePosesFromHomography(
+    const std::vector<Ray>& rays1, const std::vector<Ray>& rays2,
+    const RelativePoseOptions& options = {});
+
 enum class AbsolutePoseSolver { kP3P, kGP3P };
 
 struct AbsolutePoseOptions {

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <chrono>
 #include <cmath>
+#include <ctime>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <unordered_set>
 
@@ -17,6 +19,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 double Median(std::vector<double> values) {
@@ -33,11 +41,16 @@ Ray ToWorld(const Rigid3d& world_from_camera, const Ray& ray) {
 
 const char* FrameStatusName(FrameStatus status) {
   switch (status) {
-    case FrameStatus::kInitializing: return "initializing";
-    case FrameStatus::kTracked: return "tracked";
-    case FrameStatus::kLost: return "lost";
-    case FrameStatus::kReinitialized: return "reinitialized";
-    case FrameStatus::kInvalid: return "invalid";
+    case FrameStatus::kInitializing:
+      return "initializing";
+    case FrameStatus::kTracked:
+      return "tracked";
+    case FrameStatus::kLost:
+      return "lost";
+    case FrameStatus::kReinitialized:
+      return "reinitialized";
+    case FrameStatus::kInvalid:
+      return "invalid";
   }
   return "?";
 }
@@ -54,9 +67,11 @@ void OdometryOptions::Check() const {
             "keyframe_min_tracked_ratio must be in [0, 1)");
   UWS_CHECK(max_init_frames >= 2, "max_init_frames must be >= 2");
   UWS_CHECK(min_pnp_inliers >= 4, "min_pnp_inliers must be >= 4");
+  UWS_CHECK(max_refine_points >= 6, "max_refine_points must be >= 6");
   UWS_CHECK(min_triangulation_angle_deg > 0, "min_triangulation_angle_deg must be > 0");
   UWS_CHECK(max_reprojection_px > 0, "max_reprojection_px must be > 0");
   UWS_CHECK(max_step_depth_ratio > 0, "max_step_depth_ratio must be > 0");
+  UWS_CHECK(initial_median_depth_m > 0, "initial_median_depth_m must be > 0");
 }
 
 cv::Mat ToGray8(const cv::Mat& image) {
@@ -70,7 +85,13 @@ cv::Mat ToGray8(const cv::Mat& image) {
   }
   if (channel.depth() == CV_8U) return channel;
   if (channel.depth() == CV_16U) {
-    channel.convertTo(gray, CV_8U, 1.0 / 256.0);
+    // 10/12/14-bit data is stored in 16 bits: scale by the bit depth the
+    // frame uses (next power of two above its maximum), not by 1/256.
+    double max_value = 0;
+    cv::minMaxLoc(channel, nullptr, &max_value);
+    double full_scale = 256.0;
+    while (full_scale <= max_value && full_scale < 65536.0) full_scale *= 2.0;
+    channel.convertTo(gray, CV_8U, 256.0 / full_scale);
     return gray;
   }
   return gray;
@@ -82,9 +103,12 @@ Odometry::Odometry(const Camera& camera, const OdometryOptions& options)
   camera_.Check("vo camera");
 }
 
+Odometry::~Odometry() { DiscardBundleAdjustment(); }
+
 FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
                                    const std::vector<RangeConstraint>& ranges) {
   const auto start = Clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   FrameResult result;
   result.frame_index = frame_count_++;
   result.timestamp_s = timestamp_s;
@@ -98,6 +122,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
                                std::to_string(image.rows) + ", camera is " +
                                std::to_string(camera_.width) + "x" + std::to_string(camera_.height);
     result.total_time_s = Seconds(start);
+    result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
     return result;
   }
   UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
@@ -106,6 +131,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   result.tracking = tracker_.Track(gray, mask);
   result.tracks = result.tracking.tracked;
   result.tracking_time_s = Seconds(start);
+  result.tracking_cpu_s = ThreadCpuSeconds() - cpu_start;
 
   if (state_ == State::kTracking) {
     Track(mask, ranges, &result);
@@ -118,6 +144,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   }
   if (result.world_from_camera) last_camera_from_world_ = result.world_from_camera->Inverse();
   result.total_time_s = Seconds(start);
+  result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
   return result;
 }
 
@@ -131,6 +158,7 @@ void Odometry::MarkLost(const std::string& why, FrameResult* result) {
   result->message = why;
   result->world_from_camera.reset();
   if (state_ == State::kTracking) {
+    DiscardBundleAdjustment();
     if (!map_.keyframes.empty()) last_median_depth_ = MedianDepth(map_.keyframes.back());
     map_.Clear();
   }
@@ -145,6 +173,67 @@ double Odometry::MedianDepth(const Keyframe& keyframe) const {
     if (point) depths.push_back((keyframe.camera_from_world * point->position_world).z());
   }
   return depths.empty() ? last_median_depth_ : Median(depths);
+}
+
+std::optional<SparseMap> Odometry::BuildTwoViewMap(const RelativePoseResult& relative,
+                                                   const std::vector<Ray>& rays1,
+                                                   const std::vector<Ray>& rays2,
+                                                   const std::vector<uint64_t>& ids, bool first_map,
+                                                   double* rms_px) const {
+  // Two keyframes: the reference at the origin, the current one from the
+  // relative pose (unit baseline); triangulate the inliers.
+  SparseMap map;
+  Keyframe kf0, kf1;
+  kf0.id = next_keyframe_id_;
+  kf0.frame_index = reference_->frame_index;
+  kf1.id = next_keyframe_id_ + 1;
+  kf1.frame_index = frame_count_ - 1;
+  kf1.timestamp_s = timestamp_s_;
+  kf1.camera_from_world = relative.camera2_from_camera1;
+  const Rigid3d world_from_kf1 = kf1.camera_from_world.Inverse();
+  const double min_angle = options_.min_triangulation_angle_deg * M_PI / 180.0;
+  std::unordered_map<uint64_t, Eigen::Vector2d> current;
+  for (const auto& t : tracker_.tracks()) current[t.id] = t.pixel;
+  std::vector<double> angles, depths;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (!relative.inliers[i]) continue;
+    const std::vector<Ray> rays = {rays1[i], ToWorld(world_from_kf1, rays2[i])};
+    const auto point = TriangulateRays(rays);
+    const double angle = MaxRayAngle(rays);
+    if (!point || angle < 0.5 * min_angle) continue;
+    if ((kf1.camera_from_world * *point).z() <= 0) continue;
+    map.points[ids[i]] = {ids[i], *point, 2};
+    kf0.observations[ids[i]] = reference_->pixels.at(ids[i]);
+    kf1.observations[ids[i]] = current.at(ids[i]);
+    angles.push_back(angle);
+    depths.push_back(point->z());
+  }
+  if (int(map.points.size()) < options_.min_init_matches || Median(angles) < min_angle) {
+    return std::nullopt;
+  }
+  // Scale the two-view map so that its median depth is the expected one
+  // (the prior at the first start, the previous map's after a loss): a
+  // refractive camera is only described exactly at metric scale, since the
+  // ray origins on the port are in metres.
+  const double scale =
+      (first_map ? options_.initial_median_depth_m : last_median_depth_) / Median(depths);
+  kf1.camera_from_world.translation *= scale;
+  for (auto& [id, point] : map.points) point.position_world *= scale;
+  map.keyframes = {kf0, kf1};
+  // Refine with the camera model (refractive for a flat port); the baseline
+  // length is held (ceres::SphereManifold), the monocular gauge.
+  BundleAdjustmentOptions ba = options_.ba;
+  ba.max_iterations = std::max(ba.max_iterations, 20);
+  ba.max_solver_time_s = std::max(ba.max_solver_time_s, 0.5);
+  const BundleAdjustmentSummary summary = AdjustWindow(camera_, ba, &map, /*two_view_init=*/true);
+  for (auto it = map.points.begin(); it != map.points.end();) {
+    const bool seen = map.keyframes[0].observations.count(it->first) &&
+                      map.keyframes[1].observations.count(it->first);
+    it = seen ? std::next(it) : map.points.erase(it);
+  }
+  if (int(map.points.size()) < options_.min_init_matches) return std::nullopt;
+  *rms_px = summary.final_rms_px;
+  return map;
 }
 
 void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
@@ -181,78 +270,38 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
 
   RelativePoseOptions relative_options;
   relative_options.threshold_rad = options_.ransac_threshold_px / camera_.intrinsics[0];
-  const RelativePoseResult relative = EstimateRelativePose(rays1, rays2, relative_options);
-  if (!relative.success || relative.num_inliers < options_.min_init_matches) {
-    result->message = "initialisation: relative pose failed";
-    return;
+  std::vector<RelativePoseResult> candidates;
+  const RelativePoseResult essential = EstimateRelativePose(rays1, rays2, relative_options);
+  if (essential.success) candidates.push_back(essential);
+  for (const auto& c : RelativePosesFromHomography(rays1, rays2, relative_options)) {
+    candidates.push_back(c);
   }
-  // Two keyframes: the reference at the origin, the current one from the
-  // five-point pose (unit baseline); triangulate the inliers.
-  SparseMap map;
-  Keyframe kf0, kf1;
-  kf0.id = next_keyframe_id_;
-  kf0.frame_index = reference_->frame_index;
-  kf1.id = next_keyframe_id_ + 1;
-  kf1.frame_index = result->frame_index;
-  kf1.timestamp_s = timestamp_s_;
-  kf1.camera_from_world = relative.camera2_from_camera1;
-  const Rigid3d world_from_kf1 = kf1.camera_from_world.Inverse();
-  const double min_angle = options_.min_triangulation_angle_deg * M_PI / 180.0;
-  std::vector<double> angles;
-  for (size_t i = 0; i < ids.size(); ++i) {
-    if (!relative.inliers[i]) continue;
-    const std::vector<Ray> rays = {rays1[i], ToWorld(world_from_kf1, rays2[i])};
-    const auto point = TriangulateRays(rays);
-    const double angle = MaxRayAngle(rays);
-    if (!point || angle < 0.5 * min_angle) continue;
-    map.points[ids[i]] = {ids[i], *point, 2};
-    kf0.observations[ids[i]] = reference_->pixels.at(ids[i]);
-    kf1.observations[ids[i]] = camera_.Project(kf1.camera_from_world * *point).value_or(
-        Eigen::Vector2d(-1e9, -1e9));
-    angles.push_back(angle);
-  }
-  // Observations in kf1 are the measured pixels.
-  for (const auto& t : tracker_.tracks()) {
-    if (kf1.observations.count(t.id)) kf1.observations[t.id] = t.pixel;
-  }
-  if (int(map.points.size()) < options_.min_init_matches ||
-      Median(angles) < min_angle) {
-    result->message = "initialisation: too little parallax";
-    return;
-  }
-  map.keyframes = {kf0, kf1};
-  // Refine with the camera model (refractive for a flat port), unit baseline.
-  BundleAdjustmentOptions ba = options_.ba;
-  ba.max_iterations = std::max(ba.max_iterations, 20);
-  ba.max_solver_time_s = std::max(ba.max_solver_time_s, 0.5);
-  AdjustWindow(camera_, ba, &map, /*two_view_init=*/true);
-  for (auto it = map.points.begin(); it != map.points.end();) {
-    const bool seen = map.keyframes[0].observations.count(it->first) &&
-                      map.keyframes[1].observations.count(it->first);
-    it = seen ? std::next(it) : map.points.erase(it);
-  }
-  if (int(map.points.size()) < options_.min_init_matches) {
-    result->message = "initialisation: too many outliers after refinement";
-    return;
-  }
-  // Scale and place the new map: median depth 1 at the first start, else
-  // the median depth of the previous map, and the reference camera where the
-  // last pose was (the motion through the gap is unknown).
-  map_ = std::move(map);
-  const double depth = MedianDepth(map_.keyframes[0]);
+  // Refine every candidate with the camera model and keep the one that
+  // explains the tracks best.
   const bool first_map = num_maps_ == 0;
-  const double scale = (first_map ? 1.0 : last_median_depth_) / depth;
+  std::optional<SparseMap> best;
+  double best_rms = std::numeric_limits<double>::infinity();
+  for (const RelativePoseResult& candidate : candidates) {
+    if (candidate.num_inliers < options_.min_init_matches) continue;
+    double rms = 0.0;
+    std::optional<SparseMap> map = BuildTwoViewMap(candidate, rays1, rays2, ids, first_map, &rms);
+    if (map && rms < best_rms) best_rms = rms, best = std::move(map);
+  }
+  if (!best) {
+    result->message = candidates.empty() ? "initialisation: relative pose failed"
+                                         : "initialisation: too little parallax or structure";
+    return;
+  }
+  SparseMap map = std::move(*best);
+  // Place the new map: the reference camera at the origin at the first
+  // start, else where the last pose was (the motion through the gap is
+  // unknown).
+  map_ = std::move(map);
   const Rigid3d world_from_kf0 = first_map ? Rigid3d() : last_camera_from_world_.Inverse();
   const Rigid3d kf0_from_world = world_from_kf0.Inverse();
-  for (Keyframe& kf : map_.keyframes) {
-    // camera_from_kf0 scaled, then composed with kf0_from_world.
-    Rigid3d camera_from_kf0 = kf.camera_from_world;
-    camera_from_kf0.translation *= scale;
-    kf.camera_from_world = camera_from_kf0 * kf0_from_world;
-  }
-  for (auto& [id, point] : map_.points) {
-    point.position_world = world_from_kf0 * (scale * point.position_world);
-  }
+  for (Keyframe& kf : map_.keyframes) kf.camera_from_world = kf.camera_from_world * kf0_from_world;
+  for (auto& [id, point] : map_.points)
+    point.position_world = world_from_kf0 * point.position_world;
   next_keyframe_id_ += 2;
   ++num_maps_;
   state_ = State::kTracking;
@@ -265,16 +314,13 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   result->map_matches = result->inliers = int(map_.points.size());
   last_keyframe_inliers_ = result->inliers;
   last_median_depth_ = MedianDepth(map_.keyframes[1]);
-  reference_.reset();
-  // Drop tracks that did not make it into the map and refill the grid so
-  // the next keyframe can triangulate new points.
+  // Drop the reference's tracks that did not make it into the map (outliers)
+  // and refill the grid so the next keyframe can triangulate new points.
   std::vector<uint64_t> outliers;
   for (const auto& t : tracker_.tracks()) {
-    if (reference_ == std::nullopt && !map_.points.count(t.id) &&
-        map_.keyframes[0].observations.count(t.id)) {
-      outliers.push_back(t.id);
-    }
+    if (!map_.points.count(t.id) && reference_->pixels.count(t.id)) outliers.push_back(t.id);
   }
+  reference_.reset();
   tracker_.RemoveTracks(outliers);
   tracker_.Detect(mask, &result->tracking);
   tracker_.SetAnchor();
@@ -283,6 +329,7 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
 
 void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ranges,
                      FrameResult* result) {
+  if (options_.async_bundle_adjustment) MergeBundleAdjustment(/*wait=*/false);
   std::vector<Ray> rays;
   std::vector<Eigen::Vector3d> points;
   std::vector<uint64_t> ids;
@@ -311,24 +358,32 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     MarkLost("pose estimation failed (" + std::to_string(pnp.num_inliers) + " inliers)", result);
     return;
   }
-  // Refine on the inliers by minimising the re-projection error.
+  // Refine on the inliers by minimising the re-projection error (at most
+  // max_refine_points of them, spread over the list: bounded work per frame).
   const CameraParams params(camera_);
   const Eigen::Quaterniond q0 = pnp.camera_from_world.rotation;
   double q[4] = {q0.x(), q0.y(), q0.z(), q0.w()};
   Eigen::Vector3d t = pnp.camera_from_world.translation;
   {
-    ceres::Problem problem;
+    std::vector<size_t> inlier_indices;
     for (size_t i = 0; i < ids.size(); ++i) {
-      if (!pnp.inliers[i]) continue;
+      if (pnp.inliers[i]) inlier_indices.push_back(i);
+    }
+    const size_t stride =
+        std::max<size_t>(1, inlier_indices.size() / size_t(options_.max_refine_points));
+    ceres::Problem problem;
+    ceres::HuberLoss* loss = new ceres::HuberLoss(options_.ba.huber_px);
+    for (size_t k = 0; k < inlier_indices.size(); k += stride) {
+      const size_t i = inlier_indices[k];
       const ReprojectionCost cost(params, options_.ba.method, options_.ba.taylor_iterations,
                                   pixels[i], 1.0);
-      problem.AddResidualBlock(PoseReprojectionCost::Create(cost, points[i]),
-                               new ceres::HuberLoss(options_.ba.huber_px), q, t.data());
+      problem.AddResidualBlock(PoseReprojectionCost::Create(cost, points[i]), loss, q, t.data());
     }
     problem.SetManifold(q, new ceres::EigenQuaternionManifold);
     ceres::Solver::Options solver_options;
     solver_options.linear_solver_type = ceres::DENSE_QR;
-    solver_options.max_num_iterations = 10;
+    solver_options.max_num_iterations = 6;
+    solver_options.function_tolerance = 1e-8;
     solver_options.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);
@@ -351,11 +406,11 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     return;
   }
   // A pose that jumps far from the last one is not believed.
-  const double step = (camera_from_world.Inverse().translation -
-                       last_camera_from_world_.Inverse().translation).norm();
+  const double step =
+      (camera_from_world.Inverse().translation - last_camera_from_world_.Inverse().translation)
+          .norm();
   if (step > options_.max_step_depth_ratio * last_median_depth_) {
-    MarkLost("implausible jump of " + std::to_string(step / last_median_depth_) +
-                 " median depths",
+    MarkLost("implausible jump of " + std::to_string(step / last_median_depth_) + " median depths",
              result);
     return;
   }
@@ -370,10 +425,9 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     const auto it = last.observations.find(tr.id);
     if (it != last.observations.end()) flow.push_back((tr.pixel - it->second).norm());
   }
-  const bool keyframe =
-      Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
-      inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
-      (options_.keyframe_on_range_constraints && !ranges.empty());
+  const bool keyframe = Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
+                        inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
+                        (options_.keyframe_on_range_constraints && !ranges.empty());
   if (keyframe) AddKeyframe(camera_from_world, mask, ranges, result);
 }
 
@@ -423,9 +477,13 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
   }
   if (options_.surface) AddSurfacePoints(&map_.keyframes.back());
 
-  result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
-  tracker_.RemoveTracks(result->bundle_adjustment.removed_observations);
-  for (uint64_t id : result->bundle_adjustment.removed_observations) map_.points.erase(id);
+  if (options_.async_bundle_adjustment) {
+    MergeBundleAdjustment(/*wait=*/true);  // bounded: one BA in flight
+    LaunchBundleAdjustment();
+  } else {
+    result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
+    ApplyRemovedObservations(result->bundle_adjustment.removed_observations);
+  }
   while (int(map_.keyframes.size()) > window) map_.keyframes.pop_front();
   PruneMap();
   const Keyframe& adjusted = map_.keyframes.back();
@@ -435,6 +493,11 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
   int tracked_points = 0;
   for (const auto& t : tracker_.tracks()) tracked_points += map_.points.count(t.id) ? 1 : 0;
   last_keyframe_inliers_ = tracked_points;
+}
+
+void Odometry::ApplyRemovedObservations(const std::vector<uint64_t>& ids) {
+  tracker_.RemoveTracks(ids);
+  for (uint64_t id : ids) map_.points.erase(id);
 }
 
 void Odometry::PruneMap() {

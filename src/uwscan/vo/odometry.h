@@ -11,6 +11,7 @@
 // BundleAdjustmentOptions, and read access to the map (keyframes, points).
 #pragma once
 
+#include <future>
 #include <opencv2/core.hpp>
 #include <functional>
 #include <optional>
@@ -57,6 +58,7 @@ struct OdometryOptions {
   double keyframe_min_tracked_ratio = 0.6;
   int max_init_frames = 40;  // the initialisation reference is renewed after this
   int min_pnp_inliers = 15;
+  int max_refine_points = 150;  // pose refinement uses at most this many inliers
   double min_triangulation_angle_deg = 1.0;
   double max_reprojection_px = 2.5;
   // Largest plausible motion between two frames relative to the median scene
@@ -69,6 +71,17 @@ struct OdometryOptions {
   // on a hovering platform) get their map point there at keyframes, with a
   // range constraint of the hit's uncertainty in that keyframe.
   std::function<std::optional<SurfaceHit>(const Eigen::Vector3d&, const Eigen::Vector3d&)> surface;
+  // Scale prior: the expected median distance to the scene at the start
+  // (altitude, laser range). Monocular VO is up to scale, but a refractive
+  // camera is exact only at metric scale (its ray origins on the port are in
+  // metres), so the map starts near it; range constraints then fix it.
+  double initial_median_depth_m = 2.0;
+  // Run the windowed BA of each keyframe on a second thread (on a copy of
+  // the window) and merge its result when it is done; the next keyframe
+  // waits for it. Frames are then not held up by the BA (the thesis's
+  // 144 Hz needs this); results depend on thread timing, so it is off by
+  // default. extra_residuals is then called on that thread.
+  bool async_bundle_adjustment = false;
   void Check() const;
 };
 
@@ -87,13 +100,20 @@ struct FrameResult {
   std::vector<std::pair<int, Rigid3d>> earlier_poses;
   TrackingStats tracking;
   BundleAdjustmentSummary bundle_adjustment;  // when keyframe
-  double tracking_time_s = 0.0;  // features only
+  double tracking_time_s = 0.0;               // features only (wall clock)
   double total_time_s = 0.0;
+  // The same as CPU time of the calling thread: on a shared machine this
+  // is the cost of the frame, the wall clock includes waiting for a core.
+  double tracking_cpu_s = 0.0;
+  double total_cpu_s = 0.0;
 };
 
 class Odometry {
  public:
   Odometry(const Camera& camera, const OdometryOptions& options = {});
+  ~Odometry();
+  Odometry(const Odometry&) = delete;
+  Odometry& operator=(const Odometry&) = delete;
 
   // `image`: 8-bit grey, 16-bit grey or 8-bit colour (green channel is
   // used), of the camera's size. `mask`: empty or CV_8U of the image size,
@@ -124,6 +144,11 @@ class Odometry {
   };
   void Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ranges, FrameResult* result);
   void Initialize(const cv::Mat& mask, FrameResult* result);
+  std::optional<SparseMap> BuildTwoViewMap(const RelativePoseResult& relative,
+                                           const std::vector<Ray>& rays1,
+                                           const std::vector<Ray>& rays2,
+                                           const std::vector<uint64_t>& ids, bool first_map,
+                                           double* rms_px) const;
   void SetReference(int frame_index);
   void MarkLost(const std::string& why, FrameResult* result);
   void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
@@ -131,6 +156,16 @@ class Odometry {
   void PruneMap();
   // Map points for the newest keyframe's tracks from options_.surface.
   int AddSurfacePoints(Keyframe* keyframe);
+  // Asynchronous BA (odometry_async.cc).
+  struct AdjustedWindow {
+    SparseMap window;
+    BundleAdjustmentSummary summary;
+  };
+  void LaunchBundleAdjustment();
+  // Merges a finished BA (or waits for it with `wait`); false if none merged.
+  bool MergeBundleAdjustment(bool wait);
+  void DiscardBundleAdjustment();
+  void ApplyRemovedObservations(const std::vector<uint64_t>& ids);
   double MedianDepth(const Keyframe& keyframe) const;
 
   Camera camera_;
@@ -145,11 +180,12 @@ class Odometry {
   int num_maps_ = 0;
   int last_keyframe_inliers_ = 0;
   Rigid3d last_camera_from_world_;  // last emitted pose
-  double last_median_depth_ = 1.0;  // scale carried over a re-initialisation
+  double last_median_depth_ = 2.0;  // scale carried over a re-initialisation
+  std::future<AdjustedWindow> pending_ba_;
 };
 
-// 8-bit grey view of a frame (16-bit scaled, colour -> green channel); empty
-// if the type is unsupported.
+// 8-bit grey view of a frame (16-bit scaled by its used bit depth, colour ->
+// green channel); empty if the type is unsupported.
 cv::Mat ToGray8(const cv::Mat& image);
 
 }  // namespace uwscan::vo

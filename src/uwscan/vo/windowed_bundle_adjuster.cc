@@ -162,8 +162,7 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
     kf.observations.erase(ref.point_id);
     if (ref.keyframe == count - 1) summary.removed_observations.push_back(ref.point_id);
   }
-  summary.time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
 

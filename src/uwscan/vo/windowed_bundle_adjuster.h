@@ -35,8 +35,8 @@ struct BundleAdjustmentOptions {
   ProjectionMethod method = ProjectionMethod::kExact;
   int taylor_iterations = 2;
   double sigma_px = 1.0;
-  double huber_px = 1.5;             // robust loss scale (pixels)
-  double outlier_px = 3.0;           // observations above are removed after the solve
+  double huber_px = 1.5;    // robust loss scale (pixels)
+  double outlier_px = 3.0;  // observations above are removed after the solve
   int max_iterations = 10;
   double max_solver_time_s = 0.2;
   ExtraResidualCallback extra_residuals;

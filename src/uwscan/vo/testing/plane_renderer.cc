@@ -50,7 +50,10 @@ std::optional<Eigen::Vector3d> TexturedTerrain::Intersect(const Eigen::Vector3d&
     const double lambda = (z - origin.z()) / direction.z();
     if (lambda <= 0) return std::nullopt;
     p = origin + lambda * direction;
-    z = Height(p.x(), p.y());
+    const double next = Height(p.x(), p.y());
+    const bool converged = std::abs(next - z) < 1e-7;
+    z = next;
+    if (converged || options_.relief_amplitude_m == 0.0) break;
   }
   p.z() = z;
   return p;
@@ -77,7 +80,8 @@ std::optional<Eigen::Vector3d> PlaneRenderer::PointAt(const Rigid3d& world_from_
 cv::Mat PlaneRenderer::Render(const Rigid3d& world_from_camera,
                               const RenderOptions& options) const {
   const TerrainOptions& t = terrain_.options();
-  cv::Mat map_x(camera_.height, camera_.width, CV_32F), map_y(camera_.height, camera_.width, CV_32F);
+  cv::Mat map_x(camera_.height, camera_.width, CV_32F),
+      map_y(camera_.height, camera_.width, CV_32F);
   const Eigen::Matrix3d rotation = world_from_camera.RotationMatrix();
   for (int v = 0; v < camera_.height; ++v) {
     float* mx = map_x.ptr<float>(v);
@@ -104,7 +108,8 @@ cv::Mat PlaneRenderer::Render(const Rigid3d& world_from_camera,
   }
   if (options.laser_column_px >= 0) {
     for (int v = 0; v < sampled.rows; ++v) {
-      const double center = options.laser_column_px + options.laser_slope * (v - sampled.rows / 2.0);
+      const double center =
+          options.laser_column_px + options.laser_slope * (v - sampled.rows / 2.0);
       float* row = sampled.ptr<float>(v);
       for (int u = std::max(0, int(center - 4 * options.laser_width_px));
            u < std::min(sampled.cols, int(center + 4 * options.laser_width_px) + 1); ++u) {
@@ -160,7 +165,7 @@ Rigid3d DownwardPose(const Eigen::Vector3d& position, double yaw_rad, double rol
 namespace uwscan::vo::testing {
 
 std::vector<Rigid3d> TransectPoses(int frames, double length_m, double altitude_m, double sway_m,
-                                   double wobble_rad) {
+                                   double wobble_rad, double tilt_rad) {
   std::vector<Rigid3d> poses;
   for (int i = 0; i < frames; ++i) {
     const double s = frames > 1 ? double(i) / (frames - 1) : 0.0;
@@ -169,7 +174,7 @@ std::vector<Rigid3d> TransectPoses(int frames, double length_m, double altitude_
     poses.push_back(DownwardPose(
         Eigen::Vector3d(x, sway_m * std::sin(phase), altitude_m + 0.1 * std::sin(0.7 * phase)),
         wobble_rad * std::sin(0.5 * phase), wobble_rad * std::cos(0.9 * phase),
-        0.5 * wobble_rad * std::sin(1.3 * phase)));
+        0.5 * wobble_rad * std::sin(1.3 * phase) - tilt_rad));
   }
   return poses;
 }

@@ -40,9 +40,9 @@ class TexturedTerrain {
 };
 
 struct RenderOptions {
-  double contrast = 1.0;      // medium: texture contrast multiplier (1 = clear)
-  double backscatter = 0.0;   // medium: grey level added everywhere
-  double noise_sigma = 0.0;   // additive Gaussian noise (grey levels)
+  double contrast = 1.0;     // medium: texture contrast multiplier (1 = clear)
+  double backscatter = 0.0;  // medium: grey level added everywhere
+  double noise_sigma = 0.0;  // additive Gaussian noise (grey levels)
   unsigned noise_seed = 1;
   // Optional bright laser line: image column u = laser_column_px + slope*(v - h/2).
   double laser_column_px = -1.0;  // < 0: no laser
@@ -80,9 +80,10 @@ Rigid3d DownwardPose(const Eigen::Vector3d& position, double yaw_rad = 0.0, doub
 
 namespace uwscan::vo::testing {
 
-// A survey line along world x at `altitude_m` above the mean floor, with a
-// gentle sideways sway, yaw and roll wobble (world_from_camera per frame).
+// A survey line along world x (camera tilted by `tilt_rad` to look ahead) at `altitude_m` above the
+// mean floor, with a gentle sideways sway, yaw and roll wobble (world_from_camera per frame).
 std::vector<Rigid3d> TransectPoses(int frames, double length_m, double altitude_m,
-                                   double sway_m = 0.1, double wobble_rad = 0.03);
+                                   double sway_m = 0.1, double wobble_rad = 0.03,
+                                   double tilt_rad = 0.0);
 
 }  // namespace uwscan::vo::testing

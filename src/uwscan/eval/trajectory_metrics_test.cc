@@ -1,0 +1,112 @@
+#include "uwscan/eval/trajectory_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+TEST(AlignSim3, RecoversAKnownSimilarity) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-5, 5);
+  Sim3d truth;
+  truth.scale = 2.5;
+  truth.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized()));
+  truth.translation = Eigen::Vector3d(1, -2, 3);
+  std::vector<Eigen::Vector3d> source, target;
+  for (int i = 0; i < 20; ++i) {
+    source.emplace_back(u(rng), u(rng), u(rng));
+    target.push_back(truth * source.back());
+  }
+  const auto sim = AlignSim3(source, target);
+  ASSERT_TRUE(sim.has_value());
+  EXPECT_NEAR(sim->scale, 2.5, 1e-12);
+  EXPECT_LT(sim->rotation.angularDistance(truth.rotation), 1e-12);
+  EXPECT_LT((sim->translation - truth.translation).norm(), 1e-11);
+  // Without scale the rotation is still found.
+  const auto se3 = AlignSim3(source, target, false);
+  ASSERT_TRUE(se3.has_value());
+  EXPECT_EQ(se3->scale, 1.0);
+  EXPECT_LT(se3->rotation.angularDistance(truth.rotation), 1e-9);
+  // Collinear points do not fix the rotation.
+  std::vector<Eigen::Vector3d> line = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  EXPECT_FALSE(AlignSim3(line, line).has_value());
+  EXPECT_FALSE(AlignSim3({{0, 0, 0}}, {{0, 0, 0}}).has_value());
+}
+
+// Ground truth: the unit square at z = 0, identity rotations, t = 0..3 s.
+// Estimate: the same with heights +a, -a, +a, -a. The offsets have zero
+// mean and no correlation with the square, so the SE(3) alignment is the
+// identity and every metric is known by hand.
+std::vector<StampedPose> Square(double a) {
+  const Eigen::Vector3d corners[4] = {{0, 0, a}, {1, 0, -a}, {1, 1, a}, {0, 1, -a}};
+  std::vector<StampedPose> poses;
+  for (int i = 0; i < 4; ++i) poses.push_back({double(i), Rigid3d({1, 0, 0, 0}, corners[i])});
+  return poses;
+}
+
+TEST(TrajectoryMetrics, HandComputedSquare) {
+  TrajectoryMetricsOptions options;
+  options.align_scale = false;
+  options.drift_lengths_m = {1.0};
+  const TrajectoryMetrics m = ComputeTrajectoryMetrics(Square(0.1), Square(0.0), options);
+  EXPECT_EQ(m.associated, 4);
+  EXPECT_NEAR(m.path_length_m, 3.0, 1e-12);
+  EXPECT_NEAR(m.ate_rmse_m, 0.1, 1e-12);
+  EXPECT_NEAR(m.ate_max_m, 0.1, 1e-12);
+  // Consecutive relative motions are off by 2a = 0.2 m, rotations exact.
+  EXPECT_EQ(m.rpe_pairs, 3);
+  EXPECT_NEAR(m.rpe_trans_rmse_m, 0.2, 1e-12);
+  EXPECT_NEAR(m.rpe_rot_rmse_deg, 0.0, 1e-9);
+  // Three 1 m segments, each 0.2 m off: 20 %.
+  EXPECT_EQ(m.drift_segments, 3);
+  EXPECT_NEAR(m.drift_trans_percent, 20.0, 1e-9);
+  EXPECT_NEAR(m.drift_rot_deg_per_m, 0.0, 1e-9);
+}
+
+TEST(TrajectoryMetrics, Sim3AlignmentShrinksTheNoisyEstimate) {
+  // With scale, Umeyama shrinks the estimate by s = 0.5 / (0.5 + a^2) (the
+  // offsets add variance, eq. 42) and ATE^2 = 0.5 (s - 1)^2 + s^2 a^2.
+  const double a = 0.1, s = 0.5 / (0.5 + a * a);
+  std::vector<StampedPose> estimate = Square(a);
+  // Any similarity applied to the estimate changes nothing.
+  Sim3d sim;
+  sim.scale = 3.0;
+  sim.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitY()));
+  sim.translation = Eigen::Vector3d(5, 6, 7);
+  for (auto& pose : estimate) pose.world_from_camera = sim * pose.world_from_camera;
+  const TrajectoryMetrics m = ComputeTrajectoryMetrics(estimate, Square(0.0));
+  EXPECT_NEAR(m.alignment.scale * 3.0, s, 1e-12);
+  EXPECT_NEAR(m.ate_rmse_m, std::sqrt(0.5 * (s - 1) * (s - 1) + s * s * a * a), 1e-12);
+}
+
+TEST(TrajectoryMetrics, PerfectEstimateAndGaps) {
+  std::vector<StampedPose> truth;
+  for (int i = 0; i < 50; ++i) {
+    truth.push_back(
+        {0.1 * i, Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.05 * i, Eigen::Vector3d::UnitZ())),
+                          Eigen::Vector3d(0.1 * i, std::sin(0.2 * i), 0.01 * i))});
+  }
+  std::vector<StampedPose> estimate;
+  for (int i = 0; i < 50; ++i) {
+    if (i >= 20 && i < 25) continue;  // a gap
+    estimate.push_back({0.1 * i + 1e-4, truth[size_t(i)].world_from_camera});
+  }
+  const TrajectoryMetrics m = ComputeTrajectoryMetrics(estimate, truth);
+  EXPECT_EQ(m.associated, 45);
+  EXPECT_EQ(m.rpe_pairs, 43);  // no pair across the gap
+  EXPECT_LT(m.ate_rmse_m, 1e-9);
+  EXPECT_LT(m.drift_trans_percent, 1e-6);
+  EXPECT_GT(m.drift_segments, 0);
+  // No association at all is an error.
+  std::vector<StampedPose> late = estimate;
+  for (auto& pose : late) pose.timestamp_s += 100;
+  EXPECT_THROW(ComputeTrajectoryMetrics(late, truth), Error);
+}
+
+}  // namespace
+}  // namespace uwscan

@@ -1,0 +1,43 @@
+#include "uwscan/io/tum_trajectory.h"
+
+#include <gtest/gtest.h>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+TEST(TumTrajectory, RoundTripsPosesAndGaps) {
+  TumTrajectory trajectory;
+  trajectory.poses.push_back({1.5, Rigid3d(Eigen::Quaterniond(0.5, 0.5, -0.5, 0.5),
+                                           Eigen::Vector3d(1e-3, -2.25, 1.0 / 3))});
+  trajectory.poses.push_back({1.6, Rigid3d()});
+  trajectory.gaps.push_back({2.0, 2.5, "too few map points tracked (3)"});
+  const std::string text = TumTrajectoryToText(trajectory);
+  const TumTrajectory back = ParseTumTrajectory(text, "test");
+  ASSERT_EQ(back.poses.size(), 2u);
+  ASSERT_EQ(back.gaps.size(), 1u);
+  EXPECT_EQ(back.gaps[0].reason, "too few map points tracked (3)");
+  EXPECT_DOUBLE_EQ(back.gaps[0].end_s, 2.5);
+  EXPECT_DOUBLE_EQ(back.poses[0].timestamp_s, 1.5);
+  EXPECT_EQ(back.poses[0].world_from_camera.translation,
+            trajectory.poses[0].world_from_camera.translation);
+  EXPECT_EQ(back.poses[0].world_from_camera.rotation.coeffs(),
+            trajectory.poses[0].world_from_camera.rotation.coeffs());
+  EXPECT_EQ(TumTrajectoryToText(back), text);
+}
+
+TEST(TumTrajectory, ErrorsNameTheLine) {
+  try {
+    ParseTumTrajectory("# c\n0 1 2 3 0 0 0 1\n1 2 3\n", "gt.tum");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("gt.tum:3"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParseTumTrajectory("0 1 2 3 0 0 0 2\n", "x"), Error);    // not unit
+  EXPECT_THROW(ParseTumTrajectory("0 1 2 3 0 0 0 1 9\n", "x"), Error);  // extra field
+  EXPECT_THROW(ReadTumTrajectory("/nonexistent/gt.tum"), Error);
+}
+
+}  // namespace
+}  // namespace uwscan

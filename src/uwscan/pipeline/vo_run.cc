@@ -1,0 +1,205 @@
+#include "uwscan/pipeline/vo_run.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <opencv2/imgproc.hpp>
+
+#include "uwscan/eval/port_analysis.h"
+#include "uwscan/laser/detector.h"
+#include "uwscan/pipeline/laser_detect.h"
+#include "uwscan/pipeline/vo_dataset.h"
+#include "uwscan/util/atomic_file.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+long ProcStatusKb(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(key, 0) == 0) return std::stol(line.substr(std::string(key).size()));
+  }
+  return 0;
+}
+
+std::string CsvSafe(std::string text) {
+  for (char& c : text) {
+    if (c == ',' || c == '\n') c = ';';
+  }
+  return text;
+}
+
+}  // namespace
+
+long CurrentRssKb() { return ProcStatusKb("VmRSS:"); }
+long PeakRssKb() { return ProcStatusKb("VmHWM:"); }
+
+void VoJob::Check() const {
+  if (model != "flatport" && model != "pinhole") {
+    throw UsageError("--model must be flatport or pinhole, not '" + model + "'");
+  }
+  if (!(pinhole_fit_depth_m > 0)) throw UsageError("--pinhole-fit-depth must be > 0");
+  if (mask_margin_px < 0) throw UsageError("--mask-margin must be >= 0");
+  odometry.Check();
+}
+
+VoRunSummary RunVisualOdometry(const VoJob& job) {
+  job.Check();
+  const auto start = std::chrono::steady_clock::now();
+  const VoDataset dataset = ReadVoDataset(job.dataset_dir);
+  const Camera& rig_camera = dataset.rig.CameraByName(job.camera_name);
+  size_t camera_index = 0;
+  while (dataset.rig.cameras[camera_index].name != rig_camera.name) ++camera_index;
+  Camera camera = rig_camera;
+  if (job.model == "pinhole" && camera.IsFlatPort()) {
+    PinholeFitOptions fit;
+    fit.depth_m = job.pinhole_fit_depth_m;
+    camera = FitPinholeToFlatPort(rig_camera, fit).pinhole;
+  } else if (job.model == "flatport" && !camera.IsFlatPort()) {
+    throw UsageError("--model flatport needs a flat-port camera, " + rig_camera.name +
+                     " in rig.yaml is a pinhole");
+  }
+  laser::DetectorOptions detector;
+  if (job.mask_laser) {
+    if (dataset.rig.lasers.empty()) {
+      throw UsageError("--mask-laser needs a laser in " + (job.dataset_dir / "rig.yaml").string());
+    }
+    detector.scan_rows =
+        LaserLineIsVertical(rig_camera, dataset.rig.CameraFromLaser(camera_index, 0));
+    detector.laser_channel = laser::ChannelForWavelength(dataset.rig.lasers[0].wavelength_nm);
+  }
+
+  vo::Odometry odometry(camera, job.odometry);
+  VoRunSummary summary;
+  std::map<int, StampedPose> poses;  // by position in frames.csv
+  std::vector<vo::FrameResult> results;
+  std::vector<std::string> status_lines;
+  std::vector<std::string> reasons;  // per frame: status and message
+  const bool progress = !job.quiet && isatty(STDERR_FILENO);
+  const int total = job.max_frames < 0 ? int(dataset.frames.size())
+                                       : std::min(job.max_frames, int(dataset.frames.size()));
+  auto warn = [&](const std::string& message) {
+    if (summary.warnings.size() < 20) summary.warnings.push_back(message);
+  };
+  for (int i = 0; i < total; ++i) {
+    const VoFrameEntry& entry = dataset.frames[size_t(i)];
+    const cv::Mat raw = ReadFrameImage(dataset, entry);
+    if (raw.empty()) {
+      ++summary.unreadable;
+      warn("frame " + std::to_string(entry.index) + ": cannot read " + entry.file);
+    }
+    cv::Mat mask;
+    if (job.mask_laser && !raw.empty() && raw.cols == rig_camera.width &&
+        raw.rows == rig_camera.height) {
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        const laser::Detection detection = laser::DetectLaserLine(
+            raw, laser::LayoutFor(rig_camera.bayer, raw.channels()), detector);
+        mask = detection.mask;
+        if (!mask.empty() && job.mask_margin_px > 0) {
+          const int r = int(std::ceil(job.mask_margin_px));
+          cv::dilate(mask, mask,
+                     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+        }
+      } catch (const Error& e) {
+        warn("frame " + std::to_string(entry.index) + ": laser mask: " + e.what());
+      }
+      summary.mask_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    vo::FrameResult result =
+        odometry.ProcessFrame(TrackingImage(raw, rig_camera.bayer), mask, entry.timestamp_s);
+    summary.vo_s += result.total_time_s;
+    summary.tracking_s += result.tracking_time_s;
+    summary.vo_cpu_s += result.total_cpu_s;
+    summary.bundle_adjustment_s += result.bundle_adjustment.time_s;
+    summary.tracking_cpu_s += result.tracking_cpu_s;
+    for (const auto& [frame, pose] : result.earlier_poses) {
+      poses[frame] = {dataset.frames[size_t(frame)].timestamp_s, pose};
+    }
+    if (result.world_from_camera) poses[i] = {entry.timestamp_s, *result.world_from_camera};
+    switch (result.status) {
+      case vo::FrameStatus::kTracked:
+        ++summary.tracked;
+        break;
+      case vo::FrameStatus::kLost:
+        ++summary.lost;
+        break;
+      case vo::FrameStatus::kReinitialized:
+        ++summary.reinitialised;
+        break;
+      case vo::FrameStatus::kInvalid:
+        ++summary.invalid;
+        break;
+      case vo::FrameStatus::kInitializing:
+        break;
+    }
+    if (result.status == vo::FrameStatus::kInvalid ||
+        (result.status == vo::FrameStatus::kLost && !result.message.empty() &&
+         result.message != "re-initialising")) {
+      warn("frame " + std::to_string(entry.index) + ": " + vo::FrameStatusName(result.status) +
+           ": " + result.message);
+    }
+    reasons.push_back(std::string(vo::FrameStatusName(result.status)) +
+                      (result.message.empty() ? "" : ": " + result.message));
+    summary.keyframes += result.keyframe;
+    status_lines.push_back(std::to_string(entry.index) + "," + std::to_string(entry.timestamp_s) +
+                           "," + vo::FrameStatusName(result.status) + "," +
+                           std::to_string(int(result.keyframe)) + "," +
+                           std::to_string(result.tracks) + "," + std::to_string(result.inliers) +
+                           "," + CsvSafe(result.message));
+    if (i == total / 10) summary.rss_kb_at_10_percent = CurrentRssKb();
+    if (progress && (i % 50 == 0 || i + 1 == total)) {
+      std::cerr << "\rvo: frame " << i + 1 << "/" << total << " (" << summary.tracked
+                << " tracked, " << summary.lost << " lost)" << std::flush;
+    }
+  }
+  if (progress) std::cerr << "\n";
+  summary.frames = total;
+
+  // Trajectory with the gaps (runs of frames without a pose) marked.
+  TumTrajectory trajectory;
+  std::string gap_reason;
+  int gap_begin = -1;
+  for (int i = 0; i <= total; ++i) {
+    const bool posed = i < total && poses.count(i);
+    if (i < total && !posed) {
+      if (gap_begin < 0) gap_begin = i;
+      if (gap_reason.empty()) gap_reason = reasons[size_t(i)];
+      continue;
+    }
+    if (gap_begin >= 0) {
+      trajectory.gaps.push_back({dataset.frames[size_t(gap_begin)].timestamp_s,
+                                 dataset.frames[size_t(i - 1)].timestamp_s, gap_reason});
+      gap_begin = -1;
+      gap_reason.clear();
+    }
+    if (posed) trajectory.poses.push_back(poses[i]);
+  }
+  summary.posed = int(trajectory.poses.size());
+  summary.gaps = int(trajectory.gaps.size());
+  WriteTumTrajectory(job.trajectory_out, trajectory);
+  if (job.status_out) {
+    std::string text = "frame,timestamp_s,status,keyframe,tracks,inliers,message\n";
+    for (const std::string& line : status_lines) text += line + "\n";
+    WriteFileAtomic(*job.status_out, text);
+  }
+  if (dataset.ground_truth && trajectory.poses.size() >= 3) {
+    try {
+      summary.metrics = ComputeTrajectoryMetrics(trajectory.poses, dataset.ground_truth->poses);
+    } catch (const Error& e) {
+      warn(std::string("evaluation: ") + e.what());
+    }
+  }
+  summary.rss_kb_end = CurrentRssKb();
+  summary.peak_rss_kb = PeakRssKb();
+  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace uwscan

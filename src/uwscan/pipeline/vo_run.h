@@ -1,0 +1,54 @@
+// Controller of `uwscan vo`: streams a dataset through vo::Odometry frame by
+// frame, writes the trajectory (TUM, gaps marked) and a per-frame status
+// table, and evaluates against groundtruth.tum when there is one.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uwscan/eval/trajectory_metrics.h"
+#include "uwscan/vo/odometry.h"
+
+namespace uwscan {
+
+struct VoJob {
+  std::filesystem::path dataset_dir;
+  std::filesystem::path trajectory_out;             // TUM
+  std::optional<std::filesystem::path> status_out;  // frame,timestamp_s,status,...
+  std::string camera_name;                          // default: the first camera
+  std::string model = "flatport";                   // flatport | pinhole
+  // For --model pinhole on a flat-port rig: the best pinhole + Brown fitted
+  // to the port on a plane at this depth (what a user calibrating a pinhole
+  // in water would get; eval/port_analysis).
+  double pinhole_fit_depth_m = 3.0;
+  bool mask_laser = false;
+  double mask_margin_px = 6.0;  // dilation of the detector's mask (KLT window support)
+  int max_frames = -1;          // < 0: all
+  bool quiet = false;
+  vo::OdometryOptions odometry;
+  void Check() const;
+};
+
+struct VoRunSummary {
+  int frames = 0, posed = 0, tracked = 0, lost = 0, invalid = 0, reinitialised = 0;
+  int keyframes = 0, gaps = 0, unreadable = 0;
+  double wall_s = 0.0;
+  double vo_s = 0.0;                            // inside Odometry::ProcessFrame
+  double tracking_s = 0.0;                      // feature tracking part of it
+  double mask_s = 0.0;                          // laser detection for the mask
+  double vo_cpu_s = 0.0, tracking_cpu_s = 0.0;  // thread CPU time of the same
+  double bundle_adjustment_s = 0.0;             // windowed BA (wall), part of vo_s
+  long rss_kb_at_10_percent = 0, rss_kb_end = 0, peak_rss_kb = 0;
+  std::vector<std::string> warnings;  // first few, for the CLI
+  std::optional<TrajectoryMetrics> metrics;
+};
+
+VoRunSummary RunVisualOdometry(const VoJob& job);
+
+// Resident set size of this process (kB) from /proc; 0 where unavailable.
+long CurrentRssKb();
+long PeakRssKb();
+
+}  // namespace uwscan

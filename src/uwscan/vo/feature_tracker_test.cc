@@ -1,0 +1,112 @@
+#include "uwscan/vo/feature_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include "uwscan/vo/odometry.h"
+#include "uwscan/vo/testing/plane_renderer.h"
+
+namespace uwscan::vo {
+namespace {
+
+class FeatureTrackerTest : public ::testing::Test {
+ protected:
+  FeatureTrackerTest()
+      : camera_(testing::ScaledCamera(Camera::Flat1(), 0.25)),
+        terrain_(Options()),
+        renderer_(camera_, terrain_) {}
+  static testing::TerrainOptions Options() {
+    testing::TerrainOptions o;
+    o.x_min_m = -2;
+    o.x_max_m = 2;
+    o.y_min_m = -2;
+    o.y_max_m = 2;
+    return o;
+  }
+  Camera camera_;
+  testing::TexturedTerrain terrain_;
+  testing::PlaneRenderer renderer_;
+};
+
+TEST_F(FeatureTrackerTest, TracksRenderedMotionWithKnownFlow) {
+  const Rigid3d pose0 = testing::DownwardPose({0, 0, 2}, 0.0, 0.01);
+  const Rigid3d pose1 = testing::DownwardPose({0.03, 0.01, 2.0}, 0.01, 0.012);
+  FeatureTracker tracker;
+  tracker.Track(renderer_.Render(pose0), cv::Mat());
+  const int detected = tracker.Detect(cv::Mat());
+  EXPECT_GT(detected, tracker.target_count() * 3 / 4);
+  const std::vector<FeatureTrack> before = tracker.tracks();
+  const TrackingStats stats = tracker.Track(renderer_.Render(pose1), cv::Mat());
+  EXPECT_GT(stats.tracked, detected * 9 / 10);
+  // Ground-truth flow: the world point under each feature in frame 0,
+  // projected into frame 1 with the exact model.
+  std::vector<double> errors;
+  for (const FeatureTrack& t : tracker.tracks()) {
+    const auto it = std::find_if(before.begin(), before.end(),
+                                 [&](const FeatureTrack& b) { return b.id == t.id; });
+    ASSERT_NE(it, before.end());
+    const auto point = renderer_.PointAt(pose0, it->pixel);
+    ASSERT_TRUE(point.has_value());
+    const auto expected = camera_.Project(pose1.Inverse() * *point);
+    ASSERT_TRUE(expected.has_value());
+    errors.push_back((*expected - t.pixel).norm());
+    EXPECT_GT((t.pixel - it->pixel).norm(), 3.0);  // it really moved
+  }
+  std::sort(errors.begin(), errors.end());
+  EXPECT_LT(errors[errors.size() / 2], 0.1);         // median
+  EXPECT_LT(errors[errors.size() * 95 / 100], 0.3);  // 95th percentile
+}
+
+TEST_F(FeatureTrackerTest, HonoursTheMask) {
+  testing::RenderOptions render;
+  render.laser_column_px = 120;
+  const cv::Mat mask = renderer_.LaserMask(render);
+  FeatureTracker tracker;
+  tracker.Track(renderer_.Render(testing::DownwardPose({0, 0, 2}), render), mask);
+  tracker.Detect(mask);
+  for (const auto& t : tracker.tracks()) {
+    EXPECT_EQ(mask.at<uint8_t>(cvRound(t.pixel.y()), cvRound(t.pixel.x())), 0);
+  }
+  // Features that move onto masked pixels are dropped.
+  cv::Mat wide = mask.clone();
+  wide.colRange(100, 200).setTo(255);
+  const TrackingStats stats =
+      tracker.Track(renderer_.Render(testing::DownwardPose({0.01, 0, 2}), render), wide);
+  EXPECT_GT(stats.lost_mask, 0);
+  for (const auto& t : tracker.tracks()) {
+    EXPECT_EQ(wide.at<uint8_t>(cvRound(t.pixel.y()), cvRound(t.pixel.x())), 0);
+  }
+}
+
+TEST_F(FeatureTrackerTest, NoFeaturesOnBlackOrTexturelessFrames) {
+  FeatureTracker tracker;
+  tracker.Track(renderer_.Render(testing::DownwardPose({0, 0, 2})), cv::Mat());
+  tracker.Detect(cv::Mat());
+  ASSERT_GT(tracker.tracks().size(), 100u);
+  const cv::Mat black(camera_.height, camera_.width, CV_8U, cv::Scalar(0));
+  const TrackingStats stats = tracker.Track(black, cv::Mat());
+  EXPECT_LT(stats.tracked, 5);
+  EXPECT_EQ(tracker.Detect(cv::Mat()), 0);
+  // Flat grey with sensor noise: no corners above the absolute threshold.
+  cv::Mat flat(camera_.height, camera_.width, CV_8U);
+  cv::randn(flat, 100, 1.0);
+  tracker.Track(flat, cv::Mat());
+  EXPECT_EQ(tracker.Detect(cv::Mat()), 0);
+  // Wrong-type input is a caller error.
+  EXPECT_ANY_THROW(tracker.Track(cv::Mat(10, 10, CV_32F), cv::Mat()));
+}
+
+TEST(ToGray8, ScalesByTheUsedBitDepth) {
+  cv::Mat twelve_bit(4, 4, CV_16U, cv::Scalar(2048));
+  twelve_bit.at<uint16_t>(0, 0) = 4095;
+  const cv::Mat gray = ToGray8(twelve_bit);
+  ASSERT_EQ(gray.type(), CV_8UC1);
+  EXPECT_EQ(gray.at<uint8_t>(1, 1), 128);
+  EXPECT_EQ(gray.at<uint8_t>(0, 0), 255);
+  cv::Mat colour(4, 4, CV_8UC3, cv::Scalar(10, 20, 30));
+  EXPECT_EQ(ToGray8(colour).at<uint8_t>(2, 2), 20);  // green
+  EXPECT_TRUE(ToGray8(cv::Mat(4, 4, CV_32F)).empty());
+  EXPECT_TRUE(ToGray8(cv::Mat()).empty());
+}
+
+}  // namespace
+}  // namespace uwscan::vo

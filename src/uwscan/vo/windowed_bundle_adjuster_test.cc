@@ -1,0 +1,177 @@
+#include "uwscan/vo/windowed_bundle_adjuster.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "uwscan/util/jacobian_check.h"
+#include "uwscan/vo/cost_functions.h"
+
+namespace uwscan::vo {
+namespace {
+
+Camera DeepPortCamera() {
+  Camera camera = Camera::Flat3();  // tilted port
+  camera.port.d_air = 0.03;
+  return camera;
+}
+
+TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
+  const Camera camera = DeepPortCamera();
+  const CameraParams params(camera);
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, -2, 0.5).normalized()));
+  double rotation[4] = {q.x(), q.y(), q.z(), q.w()};
+  double translation[3] = {0.1, -0.2, 0.3};
+  const Eigen::Vector3d point_camera(0.4, -0.3, 2.0);
+  const Eigen::Vector3d world = q.inverse() * (point_camera - Eigen::Vector3d(0.1, -0.2, 0.3));
+  double point[3] = {world.x(), world.y(), world.z()};
+  const Eigen::Vector2d observed = *camera.Project(point_camera) + Eigen::Vector2d(0.7, -0.4);
+  for (ProjectionMethod method :
+       {ProjectionMethod::kExact, ProjectionMethod::kTaylor, ProjectionMethod::kPinhole}) {
+    std::unique_ptr<ceres::CostFunction> cost(
+        ReprojectionCost::Create(params, method, 2, observed, 0.5));
+    EXPECT_EQ(CheckJacobians(*cost, {rotation, translation, point}, 1e-6), "") << int(method);
+  }
+  std::unique_ptr<ceres::CostFunction> range(
+      RangeCost::Create(camera.BackProject(observed)->origin, 2.1, 0.002));
+  EXPECT_EQ(CheckJacobians(*range, {rotation, translation, point}, 1e-6), "");
+  // The exact residual vanishes at the exact projection.
+  ReprojectionCost exact(params, ProjectionMethod::kExact, 2, *camera.Project(point_camera), 1.0);
+  double residual[2];
+  ASSERT_TRUE(exact(rotation, translation, point, residual));
+  EXPECT_LT(std::hypot(residual[0], residual[1]), 1e-9);
+}
+
+struct Synthetic {
+  SparseMap map;
+  std::vector<Rigid3d> truth;  // camera_from_world per keyframe
+  std::unordered_map<uint64_t, Eigen::Vector3d> points;
+};
+
+// Five keyframes moving along x above a bumpy floor, exact refracted
+// observations plus noise.
+Synthetic MakeWindow(const Camera& camera, double noise_px, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> x(-1.0, 2.0), y(-0.8, 0.8), z(1.8, 2.4);
+  std::normal_distribution<double> noise(0.0, noise_px);
+  Synthetic s;
+  for (int k = 0; k < 5; ++k) {
+    const Eigen::Quaterniond q(
+        Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d(0.3, 1, 0).normalized()));
+    s.truth.push_back(Rigid3d(q, -(q * Eigen::Vector3d(0.25 * k, 0.02 * k, 0))));
+  }
+  for (uint64_t id = 1; id <= 300; ++id) s.points[id] = Eigen::Vector3d(x(rng), y(rng), z(rng));
+  for (int k = 0; k < 5; ++k) {
+    Keyframe kf;
+    kf.id = uint64_t(k);
+    kf.camera_from_world = s.truth[size_t(k)];
+    for (const auto& [id, p] : s.points) {
+      const auto pixel = camera.Project(s.truth[size_t(k)] * p);
+      if (!pixel || !camera.InImage(*pixel)) continue;
+      kf.observations[id] = *pixel + Eigen::Vector2d(noise(rng), noise(rng));
+    }
+    s.map.keyframes.push_back(kf);
+  }
+  for (const auto& [id, p] : s.points) s.map.points[id] = {id, p, 0};
+  return s;
+}
+
+double MaxPoseError(const Synthetic& s) {
+  double worst = 0;
+  for (size_t k = 0; k < s.truth.size(); ++k) {
+    worst = std::max(
+        worst, (s.map.keyframes[k].WorldFromCamera().translation - s.truth[k].Inverse().translation)
+                   .norm());
+  }
+  return worst;
+}
+
+TEST(WindowedBundleAdjustment, ConvergesFromPerturbedPosesAndPoints) {
+  const Camera camera = DeepPortCamera();
+  for (ProjectionMethod method : {ProjectionMethod::kExact, ProjectionMethod::kTaylor}) {
+    Synthetic s = MakeWindow(camera, 0.0, 5);
+    std::mt19937 rng(6);
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (size_t k = 2; k < 5; ++k) {  // the first two are the gauge
+      Keyframe& kf = s.map.keyframes[k];
+      kf.camera_from_world.translation += 0.01 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+      kf.camera_from_world.rotation =
+          kf.camera_from_world.rotation *
+          Eigen::Quaterniond(
+              Eigen::AngleAxisd(0.01, Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized()));
+    }
+    for (auto& [id, p] : s.map.points)
+      p.position_world += 0.02 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+    BundleAdjustmentOptions options;
+    options.method = method;
+    options.taylor_iterations = 3;
+    options.max_iterations = 50;
+    options.max_solver_time_s = 10;
+    const BundleAdjustmentSummary summary = AdjustWindow(camera, options, &s.map);
+    EXPECT_EQ(summary.keyframes, 5);
+    EXPECT_GT(summary.initial_rms_px, 5.0);
+    EXPECT_LT(summary.final_rms_px, 1e-3) << int(method);
+    EXPECT_LT(MaxPoseError(s), 1e-5) << int(method);
+    EXPECT_TRUE(summary.removed_observations.empty());
+  }
+}
+
+TEST(WindowedBundleAdjustment, PinholeResidualIsBiasedOnRefractedData) {
+  const Camera camera = DeepPortCamera();
+  Synthetic s = MakeWindow(camera, 0.0, 7);
+  BundleAdjustmentOptions options;
+  options.method = ProjectionMethod::kPinhole;  // ignores the port
+  options.outlier_px = 1e6;
+  const BundleAdjustmentSummary summary = AdjustWindow(camera, options, &s.map);
+  EXPECT_GT(summary.final_rms_px, 0.5);
+}
+
+TEST(WindowedBundleAdjustment, RangeConstraintsFixTheScale) {
+  const Camera camera = DeepPortCamera();
+  Synthetic s = MakeWindow(camera, 0.0, 8);
+  // Shrink the whole window by 10 %: re-projection errors stay zero, only
+  // the ranges can tell.
+  for (Keyframe& kf : s.map.keyframes) kf.camera_from_world.translation *= 0.9;
+  for (auto& [id, p] : s.map.points) p.position_world *= 0.9;
+  for (int k = 0; k < 5; ++k) {
+    Keyframe& kf = s.map.keyframes[size_t(k)];
+    int added = 0;
+    for (const auto& [id, pixel] : kf.observations) {
+      const Eigen::Vector3d p = s.truth[size_t(k)] * s.points.at(id);
+      const Eigen::Vector3d origin = camera.BackProject(pixel)->origin;
+      kf.range_constraints.push_back({id, (p - origin).norm(), 0.001});
+      if (++added == 10) break;
+    }
+  }
+  BundleAdjustmentOptions options;
+  options.max_iterations = 50;
+  options.max_solver_time_s = 10;
+  const BundleAdjustmentSummary summary = AdjustWindow(camera, options, &s.map);
+  EXPECT_EQ(summary.range_residuals, 50);
+  const double baseline = (s.map.keyframes[4].WorldFromCamera().translation -
+                           s.map.keyframes[0].WorldFromCamera().translation)
+                              .norm();
+  const double truth = (s.truth[4].Inverse().translation - s.truth[0].Inverse().translation).norm();
+  EXPECT_NEAR(baseline / truth, 1.0, 1e-3);
+}
+
+TEST(WindowedBundleAdjustment, ExtraResidualCallbackSeesTheWindow) {
+  const Camera camera = DeepPortCamera();
+  Synthetic s = MakeWindow(camera, 0.0, 9);
+  BundleAdjustmentOptions options;
+  options.window_size = 3;
+  size_t keyframes = 0, points = 0;
+  options.extra_residuals = [&](ceres::Problem& problem, const WindowParameters& window) {
+    keyframes = window.keyframes.size();
+    points = window.points.size();
+    EXPECT_TRUE(problem.HasParameterBlock(window.keyframes.at(4).rotation));
+    EXPECT_EQ(window.keyframes.count(1), 0u);  // outside the window
+  };
+  AdjustWindow(camera, options, &s.map);
+  EXPECT_EQ(keyframes, 3u);
+  EXPECT_GT(points, 100u);
+}
+
+}  // namespace
+}  // namespace uwscan::vo

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# CLI: uwscan vo synth / vo / evaluate on a small rendered dataset, bad
+# frames (black, wrong size, missing) and usage errors.
+set -u
+bin="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$bin" vo synth --out "$dir/seq" --frames 60 --width 320 --length 1.5 2>/dev/null \
+  || fail "vo synth"
+for f in rig.yaml frames.csv groundtruth.tum frames/000059.png; do
+  [ -f "$dir/seq/$f" ] || fail "vo synth did not write $f"
+done
+
+# Clean run with the laser masked: every frame after initialisation posed.
+"$bin" vo --dataset "$dir/seq" --out "$dir/t.tum" --mask-laser --status "$dir/status.csv" \
+  2>"$dir/log" || fail "vo: $(cat "$dir/log")"
+poses=$(grep -vc '^#' "$dir/t.tum")
+[ "$poses" -ge 54 ] || fail "only $poses poses"
+grep -q "^59,.*,tracked," "$dir/status.csv" || fail "last frame not tracked"
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" >"$dir/eval" || fail "evaluate"
+ate=$(sed -n 's/^ATE (after alignment): rmse \([0-9.]*\) m.*/\1/p' "$dir/eval")
+drift=$(sed -n 's/^drift (KITTI.*): \([0-9.]*\) % translation.*/\1/p' "$dir/eval")
+awk -v a="$ate" 'BEGIN { exit !(a < 0.004) }' || fail "ATE $ate m too large"
+awk -v d="$drift" 'BEGIN { exit !(d < 1.0) }' || fail "drift $drift % too large"
+grep -q "RPE per frame" "$dir/eval" || fail "no RPE"
+
+# Pinhole model runs too (bias is measured in the unit tests and BENCHMARKS.md).
+"$bin" vo --dataset "$dir/seq" --out "$dir/p.tum" --model pinhole --quiet || fail "pinhole run"
+
+# Bad frames: black (20), wrong size (30), missing file (40), dropped frames (45-47).
+cp -r "$dir/seq" "$dir/bad"
+python3 - "$dir/bad" <<'PY' || fail "write bad frames"
+import sys
+d = sys.argv[1]
+with open(f"{d}/frames/black.pgm", "wb") as f:
+    f.write(b"P5\n320 240\n255\n" + bytes(320 * 240))
+with open(f"{d}/frames/small.pgm", "wb") as f:
+    f.write(b"P5\n160 120\n255\n" + bytes([100]) * (160 * 120))
+lines = open(f"{d}/frames.csv").read().splitlines()
+out = [lines[0]]
+for line in lines[1:]:
+    i, t, name = line.split(",")
+    if i in ("45", "46", "47"):
+        continue
+    name = {"20": "frames/black.pgm", "30": "frames/small.pgm", "40": "frames/gone.png"}.get(i, name)
+    out.append(",".join([i, t, name]))
+open(f"{d}/frames.csv", "w").write("\n".join(out) + "\n")
+PY
+"$bin" vo --dataset "$dir/bad" --out "$dir/b.tum" --status "$dir/bstatus.csv" 2>"$dir/blog" \
+  || fail "vo on bad frames: $(cat "$dir/blog")"
+grep -q "warning: frame 20: lost" "$dir/blog" || fail "no warning for the black frame"
+grep -q "warning: frame 30: invalid: image is 160x120" "$dir/blog" || fail "no wrong-size warning"
+grep -q "warning: frame 40: cannot read" "$dir/blog" || fail "no missing-file warning"
+grep -q "^# gap " "$dir/b.tum" || fail "gap not marked"
+grep -q ",reinitialized," "$dir/bstatus.csv" || fail "no re-initialisation"
+grep -q "^59,.*,tracked," "$dir/bstatus.csv" || fail "not tracking at the end"
+! grep -q "^20,.*,tracked," "$dir/bstatus.csv" || fail "pose for the black frame"
+
+# Errors.
+"$bin" vo --dataset "$dir/seq" 2>/dev/null; [ $? -eq 2 ] || fail "missing --out: want exit 2"
+"$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --model fisheye 2>/dev/null
+[ $? -eq 2 ] || fail "bad --model: want exit 2"
+"$bin" vo --dataset "$dir/none" --out "$dir/x.tum" 2>"$dir/err"; [ $? -eq 1 ] || fail "no dataset: want 1"
+grep -q "^uwscan: error: .*none" "$dir/err" || fail "error does not name the folder"
+rm "$dir/bad/groundtruth.tum"
+"$bin" evaluate --dataset "$dir/bad" --trajectory "$dir/b.tum" 2>"$dir/err"
+[ $? -eq 1 ] || fail "evaluate without ground truth: want 1"
+grep -q "groundtruth.tum" "$dir/err" || fail "evaluate error does not name groundtruth.tum"
+echo "vo CLI tests passed"
