@@ -1,4 +1,4 @@
-// TUM trajectory files: one pose per line `t x y z qx qy qz qw`
+// TUM trajectory files with gaps (io/tum.h has the plain reader/writer): one pose per line `t x y z qx qy qz qw`
 // (world_from_camera), '#' comments. uwscan marks tracking gaps with
 // comment lines `# gap <t_begin> <t_end> <reason>` so that readers that only
 // know TUM still read the poses.
@@ -9,13 +9,9 @@
 #include <vector>
 
 #include "uwscan/geometry/rigid3d.h"
+#include "uwscan/io/tum.h"  // StampedPose
 
 namespace uwscan {
-
-struct StampedPose {
-  double timestamp_s = 0.0;
-  Rigid3d world_from_camera;
-};
 
 struct TrajectoryGap {
   double begin_s = 0.0;

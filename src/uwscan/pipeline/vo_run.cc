@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "uwscan/eval/port_analysis.h"
+#include "uwscan/fusion/self_referenced.h"
 #include "uwscan/laser/detector.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/pipeline/vo_dataset.h"
@@ -112,8 +113,15 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       summary.mask_s +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
-    vo::FrameResult result =
-        odometry.ProcessFrame(TrackingImage(raw, rig_camera.bayer), mask, entry.timestamp_s);
+    // Track the colour the laser does not light (the LED's, §5.5), with the
+    // moving lights' shading removed (fusion::SelfReferencedPoseProvider).
+    cv::Mat tracking;
+    if (!raw.empty()) {
+      tracking = fusion::SelfReferencedPoseProvider::NormalizeIllumination(
+          fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer, detector.laser_channel),
+          0.01 * rig_camera.width);
+    }
+    vo::FrameResult result = odometry.ProcessFrame(tracking, mask, entry.timestamp_s);
     summary.vo_s += result.total_time_s;
     summary.tracking_s += result.tracking_time_s;
     summary.vo_cpu_s += result.total_cpu_s;
