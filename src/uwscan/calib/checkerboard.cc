@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "uwscan/io/rig_yaml.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -63,6 +64,14 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
     gray = image;
   }
   if (gray.depth() != CV_8U) gray.convertTo(gray, CV_8U, gray.depth() == CV_16U ? 1.0 / 256 : 1.0);
+  // Dim frames (underwater, short exposure) are stretched linearly to the
+  // full range: a linear map keeps the corner positions unbiased, unlike
+  // the detector's own histogram equalisation.
+  double lowest = 0.0, highest = 0.0;
+  cv::minMaxLoc(gray, &lowest, &highest);
+  if (highest > lowest && highest < 128.0) {
+    gray.convertTo(gray, CV_8U, 255.0 / (highest - lowest), -lowest * 255.0 / (highest - lowest));
+  }
   const cv::Size pattern(board.cols, board.rows);
   std::vector<cv::Point2f> corners;
   bool found;
@@ -147,9 +156,31 @@ FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const 
   UWS_CHECK(!files.empty(), folder.string(), ": no images (.png, .jpg, .bmp, .tif)");
   FolderDetection result;
   result.set.board = board;
+  // Raw Bayer frames of a dataset (its rig.yaml beside or above the folder)
+  // are demosaicked first: the mosaic read as grey is a pixel-level
+  // checkerboard of its own.
+  std::string bayer = "none";
+  for (const fs::path& rig_path : {folder / "rig.yaml", folder.parent_path() / "rig.yaml"}) {
+    std::error_code error;
+    if (fs::exists(rig_path, error)) {
+      const Rig rig = ReadRigYaml(rig_path);
+      if (!rig.cameras.empty()) bayer = rig.cameras.front().bayer;
+      break;
+    }
+  }
   for (const fs::path& file : files) {
-    const cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+    cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
     UWS_CHECK(!image.empty(), file.string(), ": cannot read the image");
+    if (image.channels() == 1 && bayer != "none") {
+      // OpenCV names Bayer codes by the second row's pattern start.
+      const int code = bayer == "rggb"   ? cv::COLOR_BayerBG2BGR
+                       : bayer == "bggr" ? cv::COLOR_BayerRG2BGR
+                       : bayer == "grbg" ? cv::COLOR_BayerGB2BGR
+                                         : cv::COLOR_BayerGR2BGR;
+      cv::Mat bgr;
+      cv::cvtColor(image, bgr, code);
+      image = bgr;
+    }
     if (result.set.width == 0) {
       result.set.width = image.cols;
       result.set.height = image.rows;
