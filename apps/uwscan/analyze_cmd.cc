@@ -27,18 +27,19 @@ void RunAnalyzePort(const AnalyzePortArgs& args) {
   options.depth_m = args.depth;
   const PinholeFit fit = FitPinholeToFlatPort(camera, options);
   const std::vector<double> depths = {0.5, 1.0, 2.0, 3.0, 5.0, 10.0, 20.0};
-  const double half_diagonal =
-      std::atan(std::hypot(camera.width / 2.0 / camera.intrinsics[0],
-                           camera.height / 2.0 / camera.intrinsics[1]));
+  const double half_diagonal = std::atan(std::hypot(camera.width / 2.0 / camera.intrinsics[0],
+                                                    camera.height / 2.0 / camera.intrinsics[1]));
 
   std::printf("camera %s: %dx%d, f = %.1f px, port tilt %.3f deg, d_air %.2f mm, d_glass %.2f mm\n",
               camera.name.c_str(), camera.width, camera.height, camera.intrinsics[0],
               camera.port.TiltRad() * 180.0 / M_PI, camera.port.d_air * 1e3,
               camera.port.d_glass * 1e3);
   const auto& p = fit.pinhole;
-  std::printf("best pinhole at %.2f m: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f k2 %.4f p1 %.2e p2 %.2e k3 %.4f\n",
-              args.depth, p.intrinsics[0], p.intrinsics[1], p.intrinsics[2], p.intrinsics[3],
-              p.distortion[0], p.distortion[1], p.distortion[2], p.distortion[3], p.distortion[4]);
+  std::printf(
+      "best pinhole at %.2f m: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f k2 %.4f p1 %.2e p2 %.2e k3 "
+      "%.4f\n",
+      args.depth, p.intrinsics[0], p.intrinsics[1], p.intrinsics[2], p.intrinsics[3],
+      p.distortion[0], p.distortion[1], p.distortion[2], p.distortion[3], p.distortion[4]);
   std::printf("pinhole model error over the image (px):\n");
   std::printf("  %8s %10s %10s %10s\n", "depth_m", "median", "p95", "max");
   for (double depth : depths) {
@@ -61,7 +62,8 @@ void RegisterAnalyzeCommands(CLI::App& app) {
   analyze->require_subcommand(1);
   auto args = std::make_shared<AnalyzePortArgs>();
   auto* port = analyze->add_subcommand(
-      "port", "Error of the best pinhole approximation of a flat-port camera, and the optimal d_air");
+      "port",
+      "Error of the best pinhole approximation of a flat-port camera, and the optimal d_air");
   port->add_option("--rig", args->rig, "rig.yaml")->required();
   port->add_option("--camera", args->camera, "camera name (default: the first)");
   port->add_option("--depth", args->depth, "depth of the fitting plane (m)")->capture_default_str();

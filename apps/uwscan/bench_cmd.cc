@@ -70,14 +70,14 @@ void RegisterBenchCommands(CLI::App& app) {
   laser_accuracy->add_option("--frames", accuracy->frames)->capture_default_str();
   laser_accuracy->add_option("--seed", accuracy->seed)->capture_default_str();
   laser_accuracy->add_option("--turbidity", accuracy->turbidities, "presets or c_p(530) values");
-  laser_accuracy->callback([accuracy] {
-    std::cout << LaserAccuracyToMarkdown(RunLaserAccuracyBenchmark(*accuracy));
-  });
+  laser_accuracy->callback(
+      [accuracy] { std::cout << LaserAccuracyToMarkdown(RunLaserAccuracyBenchmark(*accuracy)); });
 
   auto pipeline_options = std::make_shared<PipelineBenchmarkOptions>();
   auto pipeline_dataset = std::make_shared<std::string>();
   auto* pipeline = bench->add_subcommand(
-      "pipeline", "Time the self-referenced reconstruction (real-time factor, peak memory) as JSON");
+      "pipeline",
+      "Time the self-referenced reconstruction (real-time factor, peak memory) as JSON");
   pipeline->add_option("--dataset", *pipeline_dataset, "dataset (default: simulate tank-target)");
   pipeline->add_option("--frames", pipeline_options->frames)->capture_default_str();
   pipeline->add_option("--width", pipeline_options->width)->capture_default_str();

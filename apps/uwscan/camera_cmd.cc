@@ -30,7 +30,8 @@ void RunProject(const ProjectArgs& args) {
   CsvTable pixels;
   pixels.header = {"u", "v", "valid"};
   for (const auto& row : points.rows) {
-    const auto pixel = camera.Project(Eigen::Vector3d(row[x], row[y], row[z]), *method, args.iterations);
+    const auto pixel =
+        camera.Project(Eigen::Vector3d(row[x], row[y], row[z]), *method, args.iterations);
     pixels.rows.push_back(pixel ? std::vector<double>{pixel->x(), pixel->y(), 1.0}
                                 : std::vector<double>{0.0, 0.0, 0.0});
   }
@@ -59,7 +60,8 @@ void RunBackproject(const BackprojectArgs& args) {
 }  // namespace
 
 void RegisterCameraCommands(CLI::App& app) {
-  auto* camera = app.add_subcommand("camera", "Project points and back-project pixels with a rig's camera");
+  auto* camera =
+      app.add_subcommand("camera", "Project points and back-project pixels with a rig's camera");
   camera->require_subcommand(1);
 
   auto project_args = std::make_shared<ProjectArgs>();
@@ -71,18 +73,16 @@ void RegisterCameraCommands(CLI::App& app) {
       ->capture_default_str();
   project->add_option("--iterations", project_args->iterations, "Taylor iterations")
       ->capture_default_str();
-  project->add_option("--in", project_args->in, "points.csv with columns x,y,z")
-      ->required();
+  project->add_option("--in", project_args->in, "points.csv with columns x,y,z")->required();
   project->add_option("--out", project_args->out, "pixels.csv")->required();
   project->callback([project_args] { RunProject(*project_args); });
 
   auto back_args = std::make_shared<BackprojectArgs>();
-  auto* back = camera->add_subcommand(
-      "backproject", "Pixels (u,v) -> rays in water (ox,oy,oz,dx,dy,dz,valid)");
+  auto* back = camera->add_subcommand("backproject",
+                                      "Pixels (u,v) -> rays in water (ox,oy,oz,dx,dy,dz,valid)");
   back->add_option("--rig", back_args->rig, "rig.yaml")->required();
   back->add_option("--camera", back_args->camera, "camera name (default: the first)");
-  back->add_option("--in", back_args->in, "pixels.csv with columns u,v")
-      ->required();
+  back->add_option("--in", back_args->in, "pixels.csv with columns u,v")->required();
   back->add_option("--out", back_args->out, "rays.csv")->required();
   back->callback([back_args] { RunBackproject(*back_args); });
 }

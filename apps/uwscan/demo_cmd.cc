@@ -33,9 +33,10 @@ void RunDemo(const DemoArgs& args) {
   fs::create_directories(out, error);
   UWS_CHECK(!error, out.string(), ": cannot create: ", error.message());
 
-  std::printf("uwscan demo: a hovering ROV scans a checkerboard on the sea floor at 2 m with a green\n"
-              "laser on a servo and a red LED (thesis §6.4), %d frames at %dx%d, 144 Hz.\n",
-              args.frames, args.width, args.height);
+  std::printf(
+      "uwscan demo: a hovering ROV scans a checkerboard on the sea floor at 2 m with a green\n"
+      "laser on a servo and a red LED (thesis §6.4), %d frames at %dx%d, 144 Hz.\n",
+      args.frames, args.width, args.height);
   sim::ScenarioOptions options;
   options.frames = args.frames;
   options.width = args.width;
@@ -50,9 +51,10 @@ void RunDemo(const DemoArgs& args) {
   job.out = out / "result";
   job.quiet = args.quiet;
   const ReconstructReport report = RunReconstruct(job);
-  std::printf("2. reconstructed %ld points from %d frames (%d without pose) in %.1f s, poses from %s\n",
-              report.points, report.frames, report.frames_without_pose, report.seconds,
-              report.pose_source.c_str());
+  std::printf(
+      "2. reconstructed %ld points from %d frames (%d without pose) in %.1f s, poses from %s\n",
+      report.points, report.frames, report.frames_without_pose, report.seconds,
+      report.pose_source.c_str());
 
   const ReconstructionEvaluation evaluation = EvaluateReconstruction(dataset, job.out);
   const SurfaceAccuracy* compensated = evaluation.compensated.Surface("checkerboard");
@@ -77,7 +79,8 @@ void RunDemo(const DemoArgs& args) {
 
 void RegisterDemoCommand(CLI::App& app) {
   auto args = std::make_shared<DemoArgs>();
-  auto* demo = app.add_subcommand("demo", "Simulate, reconstruct and evaluate a self-referenced scan");
+  auto* demo =
+      app.add_subcommand("demo", "Simulate, reconstruct and evaluate a self-referenced scan");
   demo->add_option("--out", args->out, "output folder")->capture_default_str();
   demo->add_option("--frames", args->frames, "frames to simulate")->capture_default_str();
   demo->add_option("--width", args->width)->capture_default_str();

@@ -44,8 +44,9 @@ void RegisterEvaluateCommand(CLI::App& app) {
   auto se3 = std::make_shared<bool>(false);
   evaluate->add_option("--dataset", *dataset, "dataset folder with groundtruth.tum")->required();
   evaluate->add_option("--trajectory", *trajectory, "estimated trajectory (TUM)");
-  evaluate->add_option("--result", *result,
-                       "output folder of reconstruct (trajectory.tum, cloud.ply, cloud_uncompensated.ply)");
+  evaluate->add_option(
+      "--result", *result,
+      "output folder of reconstruct (trajectory.tum, cloud.ply, cloud_uncompensated.ply)");
   evaluate->add_option("--json", *json_path, "also write the cloud evaluation as JSON here");
   evaluate->add_option("--lengths", options->drift_lengths_m,
                        "drift path lengths in m (default: 10..50 % of the path)");
@@ -68,7 +69,8 @@ void RegisterEvaluateCommand(CLI::App& app) {
     options->align_scale = !*se3;
     const TumTrajectory estimate = ReadTumTrajectory(estimate_path);
     const TumTrajectory truth = ReadTumTrajectory(truth_path);
-    const TrajectoryMetrics metrics = ComputeTrajectoryMetrics(estimate.poses, truth.poses, *options);
+    const TrajectoryMetrics metrics =
+        ComputeTrajectoryMetrics(estimate.poses, truth.poses, *options);
     std::printf("trajectory %s vs %s (%zu gaps marked)\n%s", estimate_path.c_str(),
                 truth_path.c_str(), estimate.gaps.size(), FormatTrajectoryMetrics(metrics).c_str());
     if (!result->empty() && fs::exists(fs::path(*dataset) / "scene.yaml") &&

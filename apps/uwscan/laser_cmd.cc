@@ -22,7 +22,8 @@ void RegisterLaserCommands(CLI::App& app) {
   auto dataset = std::make_shared<std::string>();
   auto* dataset_option =
       detect->add_option("--dataset", *dataset, "dataset folder (rig.yaml, frames.csv, frames/)");
-  auto* images_option = detect->add_option("--images", *images, "folder of images (sorted by name)");
+  auto* images_option =
+      detect->add_option("--images", *images, "folder of images (sorted by name)");
   dataset_option->excludes(images_option);
 
   detect->add_option("--rig", *rig, "rig.yaml: image size, Bayer pattern, laser colour and pose");
@@ -30,7 +31,8 @@ void RegisterLaserCommands(CLI::App& app) {
   detect->add_option("--out", *out, "detections.csv")->required();
   detect->add_option("--method", *method, "thesis | cog | argmax")->capture_default_str();
   detect->add_option("--overlay", *overlay, "folder for images with the detections drawn");
-  detect->add_option("--profiles", *profiles, "profiles.csv: triangulated points frame,x,y,z (camera frame, m)");
+  detect->add_option("--profiles", *profiles,
+                     "profiles.csv: triangulated points frame,x,y,z (camera frame, m)");
   detect->add_option("--scan", job->scan, "rows | cols | auto")->capture_default_str();
   detect->add_option("--channel", job->channel, "red | green | blue | auto")->capture_default_str();
   detect->add_option("--sigma", job->detector.line_sigma_px, "expected line sigma (px)")

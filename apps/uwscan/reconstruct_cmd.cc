@@ -17,7 +17,8 @@ void RegisterReconstructCommand(CLI::App& app) {
       "reconstruct",
       "Motion-compensated point cloud from a dataset: cloud.ply, cloud_uncompensated.ply, "
       "trajectory.tum, report.json");
-  cmd->add_option("--dataset", *dataset, "dataset folder (rig.yaml, frames.csv, frames/)")->required();
+  cmd->add_option("--dataset", *dataset, "dataset folder (rig.yaml, frames.csv, frames/)")
+      ->required();
   cmd->add_option("--out", *out, "output folder")->required();
   cmd->add_option("--poses", *poses, "external trajectory (TUM, world_from_camera) instead of VO");
   cmd->add_flag("--no-motion-compensation", *no_compensation,

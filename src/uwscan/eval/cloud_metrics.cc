@@ -25,7 +25,8 @@ double Rms(const std::vector<double>& values) {
 // Relative distance errors between random pairs of points at least 5 cm
 // apart (true distance), in percent.
 void DistanceErrors(const std::vector<Eigen::Vector3d>& reconstructed,
-                    const std::vector<Eigen::Vector3d>& truth, unsigned seed, SurfaceAccuracy* out) {
+                    const std::vector<Eigen::Vector3d>& truth, unsigned seed,
+                    SurfaceAccuracy* out) {
   if (reconstructed.size() < 2) return;
   std::mt19937 rng(seed);
   std::uniform_int_distribution<size_t> pick(0, reconstructed.size() - 1);
@@ -34,7 +35,8 @@ void DistanceErrors(const std::vector<Eigen::Vector3d>& reconstructed,
     const size_t a = pick(rng), b = pick(rng);
     const double d_true = (truth[a] - truth[b]).norm();
     if (d_true < 0.05) continue;
-    errors.push_back(100.0 * std::abs((reconstructed[a] - reconstructed[b]).norm() - d_true) / d_true);
+    errors.push_back(100.0 * std::abs((reconstructed[a] - reconstructed[b]).norm() - d_true) /
+                     d_true);
   }
   if (errors.empty()) return;
   double sum = 0.0;
@@ -91,7 +93,8 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
   UWS_CHECK(true_from_estimated.has_value(), "evaluation: the trajectories share no frame");
   CloudAccuracy accuracy;
   accuracy.points = static_cast<long>(cloud.size());
-  std::vector<std::vector<Eigen::Vector3d>> reconstructed(scene.surfaces.size()), true_points(scene.surfaces.size());
+  std::vector<std::vector<Eigen::Vector3d>> reconstructed(scene.surfaces.size()),
+      true_points(scene.surfaces.size());
   std::vector<double> errors;
   for (const auto& point : cloud) {
     const auto est = estimated.find(point.frame);

@@ -19,10 +19,10 @@ struct SurfaceAccuracy {
   std::string name;
   std::string type;  // plane | cylinder | hull
   long points = 0;
-  double fit_rms_m = 0.0;           // std of signed distances to the fitted plane / cylinder residual
+  double fit_rms_m = 0.0;  // std of signed distances to the fitted plane / cylinder residual
   double fit_max_abs_m = 0.0;
-  double point_error_rms_m = 0.0;   // |reconstructed - true|
-  double distance_error_mean_pct = 0.0;    // planes: |d_rec - d_true| / d_true over point pairs
+  double point_error_rms_m = 0.0;        // |reconstructed - true|
+  double distance_error_mean_pct = 0.0;  // planes: |d_rec - d_true| / d_true over point pairs
   double distance_error_median_pct = 0.0;
   int distance_pairs = 0;
   nlohmann::json ToJson() const;

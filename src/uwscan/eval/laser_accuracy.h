@@ -8,11 +8,11 @@
 namespace uwscan {
 
 struct LaserAccuracy {
-  long true_lines = 0;      // scan lines the true line crosses
-  long found = 0;           // of those, with a detection within 1 px
+  long true_lines = 0;  // scan lines the true line crosses
+  long found = 0;       // of those, with a detection within 1 px
   long detections = 0;
-  long outliers = 0;        // detections farther than 2 px from the true line
-  double sum_squared = 0.0; // over detections within 1 px
+  long outliers = 0;         // detections farther than 2 px from the true line
+  double sum_squared = 0.0;  // over detections within 1 px
 
   double Rms() const { return found ? std::sqrt(sum_squared / found) : 0.0; }
   double Completeness() const { return true_lines ? double(found) / true_lines : 1.0; }

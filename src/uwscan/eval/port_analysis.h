@@ -24,8 +24,8 @@ struct ErrorStats {
 ErrorStats ComputeErrorStats(std::vector<double> errors);
 
 struct PinholeFit {
-  Camera pinhole;       // model: pinhole, same size, fitted intrinsics and distortion
-  ErrorStats at_fit;    // residuals on the fitting plane
+  Camera pinhole;     // model: pinhole, same size, fitted intrinsics and distortion
+  ErrorStats at_fit;  // residuals on the fitting plane
   int iterations = 0;
 };
 

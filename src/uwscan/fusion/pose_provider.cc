@@ -9,9 +9,9 @@ namespace uwscan::fusion {
 std::optional<Rigid3d> InterpolatePose(const std::vector<StampedPose>& poses, double t,
                                        double max_extrapolation_s) {
   if (poses.empty()) return std::nullopt;
-  const auto after = std::lower_bound(
-      poses.begin(), poses.end(), t,
-      [](const StampedPose& p, double time) { return p.timestamp_s < time; });
+  const auto after =
+      std::lower_bound(poses.begin(), poses.end(), t,
+                       [](const StampedPose& p, double time) { return p.timestamp_s < time; });
   if (after == poses.begin()) {
     if (poses.front().timestamp_s - t > max_extrapolation_s) return std::nullopt;
     return poses.front().world_from_camera;
@@ -32,8 +32,9 @@ TrajectoryPoseProvider::TrajectoryPoseProvider(std::vector<StampedPose> poses, s
                                                double max_extrapolation_s)
     : poses_(std::move(poses)), name_(std::move(name)), max_extrapolation_s_(max_extrapolation_s) {
   UWS_CHECK(!poses_.empty(), name_, ": the trajectory has no poses");
-  std::stable_sort(poses_.begin(), poses_.end(),
-                   [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+  std::stable_sort(poses_.begin(), poses_.end(), [](const StampedPose& a, const StampedPose& b) {
+    return a.timestamp_s < b.timestamp_s;
+  });
 }
 
 std::vector<PoseUpdate> TrajectoryPoseProvider::Add(const FrameInput& frame) {

@@ -3,12 +3,11 @@
 // comparison (`--poses FILE`).
 #pragma once
 
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
 
 #include "uwscan/io/tum.h"
 #include "uwscan/laser/detector.h"
@@ -20,7 +19,7 @@ namespace uwscan::fusion {
 struct FrameInput {
   int index = 0;
   double timestamp_s = 0.0;
-  cv::Mat image;                      // as stored (raw Bayer, mono or BGR)
+  cv::Mat image;                                // as stored (raw Bayer, mono or BGR)
   const laser::Detection* detection = nullptr;  // with the line mask
   const laser::Profile* profile = nullptr;      // camera-frame laser points (metric)
 };

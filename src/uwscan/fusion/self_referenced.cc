@@ -83,7 +83,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
     return updates;
   }
   held_.push_back(std::move(held));
-  if (static_cast<int>(held_.size()) % options_.init_attempt_every != 0 && held_.size() > 1) return {};
+  if (static_cast<int>(held_.size()) % options_.init_attempt_every != 0 && held_.size() > 1)
+    return {};
   auto updates = TryInitialize();
   if (!running_ && static_cast<int>(held_.size()) >= options_.max_init_frames) {
     held_.pop_front();  // never got a pose: the laser did not measure enough
@@ -117,8 +118,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   };
   odometry_ = std::make_unique<vo::Odometry>(camera_, odometry_options);
   const Held& first = held_.front();
-  const vo::FrameResult start = odometry_->InitializeFromSurface(
-      first.input.image, first.mask, first.input.timestamp_s, origin);
+  const vo::FrameResult start = odometry_->InitializeFromSurface(first.input.image, first.mask,
+                                                                 first.input.timestamp_s, origin);
   if (start.status != vo::FrameStatus::kTracked) {
     odometry_.reset();
     surface_.reset();

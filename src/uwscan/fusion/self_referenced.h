@@ -24,7 +24,7 @@ namespace uwscan::fusion {
 struct SelfReferencedOptions {
   vo::OdometryOptions odometry;
   SurfaceModelOptions surface;
-  int mask_dilation_px = 4;     // around the detected line (halo, blur)
+  int mask_dilation_px = 4;                   // around the detected line (halo, blur)
   double illumination_sigma_fraction = 0.01;  // high-pass scale, of the image width
   // A pose that moves faster than a vehicle can is not believed: the frame
   // gets no pose and the map restarts from the last believed one.
@@ -33,8 +33,8 @@ struct SelfReferencedOptions {
   // Poses are smoothed over +-N frames (quadratic fit, pose_smoother.h) and
   // come out N frames late; 0 switches smoothing off.
   int smoothing_half_window = 10;
-  int max_init_frames = 90;     // frames held back while the laser sweeps enough surface
-  int init_attempt_every = 3;   // frames between initialisation attempts
+  int max_init_frames = 90;    // frames held back while the laser sweeps enough surface
+  int init_attempt_every = 3;  // frames between initialisation attempts
   void Check() const;
 };
 
@@ -56,7 +56,7 @@ class SelfReferencedPoseProvider : public PoseProvider {
 
  private:
   struct Held {
-    FrameInput input;   // image owned (cloned)
+    FrameInput input;  // image owned (cloned)
     cv::Mat mask;
     laser::Profile profile;
   };

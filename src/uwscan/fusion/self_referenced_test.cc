@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 // self-referenced poses must place the laser profiles clearly better than no
 // compensation, checked against the simulator's truth.
 TEST(SelfReferenced, CompensatesHoverMotion) {
-  const fs::path root = fs::temp_directory_path() / ("uwscan_fusion_test_" + std::to_string(::getpid()));
+  const fs::path root =
+      fs::temp_directory_path() / ("uwscan_fusion_test_" + std::to_string(::getpid()));
   fs::remove_all(root);
   sim::ScenarioOptions options;
   options.width = 480;

@@ -106,7 +106,8 @@ std::optional<Eigen::Vector3d> SurfaceModel::IntersectLocal(const Eigen::Vector3
   return origin + lambda * direction;
 }
 
-const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::DominantPlane() const {
+const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::DominantPlane()
+    const {
   if (!plane_dirty_) return plane_;
   plane_dirty_ = false;
   plane_.reset();
@@ -116,7 +117,8 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
   for (int iteration = 0; iteration < 4; ++iteration) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     double total = 0.0;
-    for (size_t i = 0; i < samples_.size(); ++i) centroid += weights[i] * samples_[i], total += weights[i];
+    for (size_t i = 0; i < samples_.size(); ++i)
+      centroid += weights[i] * samples_[i], total += weights[i];
     centroid /= total;
     Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     for (size_t i = 0; i < samples_.size(); ++i) {
@@ -152,8 +154,8 @@ std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& 
   return Hit{origin + lambda * direction, options_.extrapolated_sigma_m, true};
 }
 
-std::optional<Eigen::Vector3d> SurfaceModel::IntersectSwept(const Eigen::Vector3d& origin,
-                                                            const Eigen::Vector3d& direction) const {
+std::optional<Eigen::Vector3d> SurfaceModel::IntersectSwept(
+    const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const {
   // First guess: the mean depth of the measured surface along the
   // reference view; then refine the cell from the local plane's hit.
   const Eigen::Vector3d axis = world_from_reference_.rotation * Eigen::Vector3d::UnitZ();

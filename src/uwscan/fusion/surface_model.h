@@ -20,7 +20,7 @@
 namespace uwscan::fusion {
 
 struct SurfaceModelOptions {
-  int cell_px = 16;            // bin size in the reference image
+  int cell_px = 16;  // bin size in the reference image
   int max_points_per_cell = 48;
   int search_radius_cells = 2;  // neighbourhood for the local plane
   int min_points = 10;
@@ -54,7 +54,8 @@ class SurfaceModel {
     double sigma_m = 0.0;
     bool extrapolated = false;
   };
-  std::optional<Hit> Intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+  std::optional<Hit> Intersect(const Eigen::Vector3d& origin,
+                               const Eigen::Vector3d& direction) const;
   long size() const { return points_; }
   // Whether the laser points span enough to define the dominant plane.
   bool HasDominantPlane() const { return DominantPlane().has_value(); }
@@ -66,7 +67,8 @@ class SurfaceModel {
   std::optional<Eigen::Vector3d> IntersectLocal(const Eigen::Vector3d& origin,
                                                 const Eigen::Vector3d& direction,
                                                 const Eigen::Vector2i& cell) const;
-  std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> FitCell(const Eigen::Vector2i& cell) const;
+  std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> FitCell(
+      const Eigen::Vector2i& cell) const;
 
   Camera camera_;
   Rigid3d world_from_reference_, reference_from_world_;

@@ -53,7 +53,7 @@ TEST(SurfaceModel, RaysMeetTheSweptSurface) {
   }
   EXPECT_GT(hits, 20);
   EXPECT_LT(worst, 0.008) << hits << " hits";  // the 5 mm board edge is smoothed over
-  EXPECT_GT(misses, 0);  // not swept yet: no depth rather than a guess
+  EXPECT_GT(misses, 0);                        // not swept yet: no depth rather than a guess
 }
 
 }  // namespace

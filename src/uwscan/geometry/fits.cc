@@ -15,7 +15,8 @@ std::optional<PlaneFit> FitPlane(const std::vector<Eigen::Vector3d>& points) {
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (const auto& p : points) scatter += (p - fit.centroid) * (p - fit.centroid).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
-  if (solver.info() != Eigen::Success || !(solver.eigenvalues()(1) > 1e-12 * solver.eigenvalues()(2))) {
+  if (solver.info() != Eigen::Success ||
+      !(solver.eigenvalues()(1) > 1e-12 * solver.eigenvalues()(2))) {
     return std::nullopt;  // collinear or degenerate
   }
   fit.normal = solver.eigenvectors().col(0).normalized();
@@ -57,7 +58,8 @@ struct CylinderResidual {
     return true;
   }
   static ceres::CostFunction* Create(const Eigen::Vector3d& point) {
-    return new ceres::AutoDiffCostFunction<CylinderResidual, 1, 3, 3, 1>(new CylinderResidual(point));
+    return new ceres::AutoDiffCostFunction<CylinderResidual, 1, 3, 3, 1>(
+        new CylinderResidual(point));
   }
   Eigen::Vector3d point_;
 };
@@ -91,7 +93,8 @@ std::optional<CylinderFit> FitCylinder(const std::vector<Eigen::Vector3d>& point
   CylinderFit fit;
   fit.axis_direction = direction.normalized();
   // Report the axis point closest to the centroid.
-  fit.axis_point = axis_point + (centroid - axis_point).dot(fit.axis_direction) * fit.axis_direction;
+  fit.axis_point =
+      axis_point + (centroid - axis_point).dot(fit.axis_direction) * fit.axis_direction;
   fit.radius = radius;
   fit.count = static_cast<int>(points.size());
   fit.iterations = static_cast<int>(summary.iterations.size());

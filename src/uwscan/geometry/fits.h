@@ -11,7 +11,7 @@ namespace uwscan {
 struct PlaneFit {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit
-  double rms = 0.0;     // of signed distances (= their standard deviation, zero mean)
+  double rms = 0.0;  // of signed distances (= their standard deviation, zero mean)
   double max_abs = 0.0;
   int count = 0;
   double SignedDistance(const Eigen::Vector3d& p) const { return normal.dot(p - centroid); }
@@ -21,8 +21,8 @@ struct PlaneFit {
 std::optional<PlaneFit> FitPlane(const std::vector<Eigen::Vector3d>& points);
 
 struct CylinderFit {
-  Eigen::Vector3d axis_point = Eigen::Vector3d::Zero();      // closest axis point to the centroid
-  Eigen::Vector3d axis_direction = Eigen::Vector3d::UnitZ(); // unit
+  Eigen::Vector3d axis_point = Eigen::Vector3d::Zero();       // closest axis point to the centroid
+  Eigen::Vector3d axis_direction = Eigen::Vector3d::UnitZ();  // unit
   double radius = 0.0;
   double rms = 0.0;  // of radial residuals |distance to axis| - radius
   int count = 0;
@@ -35,7 +35,6 @@ struct CylinderFit {
 // centroid shifted away from the points by the radius along `towards_axis`.
 std::optional<CylinderFit> FitCylinder(const std::vector<Eigen::Vector3d>& points,
                                        const Eigen::Vector3d& initial_direction,
-                                       double initial_radius,
-                                       const Eigen::Vector3d& towards_axis);
+                                       double initial_radius, const Eigen::Vector3d& towards_axis);
 
 }  // namespace uwscan

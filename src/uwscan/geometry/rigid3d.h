@@ -3,8 +3,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <cmath>
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace uwscan {
 

@@ -19,11 +19,12 @@ std::string Header(int64_t count) {
   char number[32];
   std::snprintf(number, sizeof(number), "%0*lld", kCountWidth, static_cast<long long>(count));
   std::ostringstream header;
-  header << "ply\nformat binary_little_endian 1.0\ncomment uwscan point cloud, world frame, metres\n"
-         << kCountTag << number << "\n"
-         << "property double x\nproperty double y\nproperty double z\n"
-         << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-         << "property float intensity\nproperty int frame\nend_header\n";
+  header
+      << "ply\nformat binary_little_endian 1.0\ncomment uwscan point cloud, world frame, metres\n"
+      << kCountTag << number << "\n"
+      << "property double x\nproperty double y\nproperty double z\n"
+      << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+      << "property float intensity\nproperty int frame\nend_header\n";
   return header.str();
 }
 
@@ -88,8 +89,8 @@ std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
   };
   std::vector<Property> properties;
   size_t stride = 0;
-  const std::map<std::string, size_t> sizes = {{"double", 8}, {"float", 4}, {"uchar", 1},
-                                               {"int", 4},    {"uint", 4},  {"float32", 4},
+  const std::map<std::string, size_t> sizes = {{"double", 8},  {"float", 4}, {"uchar", 1},
+                                               {"int", 4},     {"uint", 4},  {"float32", 4},
                                                {"float64", 8}, {"uint8", 1}, {"int32", 4}};
   bool in_vertex = false;
   while (std::getline(in, line) && line != "end_header") {
@@ -99,13 +100,16 @@ std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
     if (word == "format") {
       std::string format;
       words >> format;
-      UWS_CHECK(format == "binary_little_endian", path.string(), ": only binary_little_endian PLY is supported");
+      UWS_CHECK(format == "binary_little_endian", path.string(),
+                ": only binary_little_endian PLY is supported");
     } else if (word == "element") {
       std::string name;
       words >> name;
       in_vertex = name == "vertex";
-      if (in_vertex) words >> count;
-      else UWS_CHECK(count >= 0, path.string(), ": elements before 'vertex' are not supported");
+      if (in_vertex)
+        words >> count;
+      else
+        UWS_CHECK(count >= 0, path.string(), ": elements before 'vertex' are not supported");
     } else if (word == "property" && in_vertex) {
       Property p;
       words >> p.type >> p.name;
@@ -122,10 +126,22 @@ std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
   points.reserve(count);
   const auto value = [&](const Property& p) -> double {
     const char* at = record.data() + p.offset;
-    if (p.type == "double" || p.type == "float64") { double v; std::memcpy(&v, at, 8); return v; }
-    if (p.type == "float" || p.type == "float32") { float v; std::memcpy(&v, at, 4); return v; }
+    if (p.type == "double" || p.type == "float64") {
+      double v;
+      std::memcpy(&v, at, 8);
+      return v;
+    }
+    if (p.type == "float" || p.type == "float32") {
+      float v;
+      std::memcpy(&v, at, 4);
+      return v;
+    }
     if (p.type == "uchar" || p.type == "uint8") return static_cast<unsigned char>(*at);
-    if (p.type == "uint") { uint32_t v; std::memcpy(&v, at, 4); return v; }
+    if (p.type == "uint") {
+      uint32_t v;
+      std::memcpy(&v, at, 4);
+      return v;
+    }
     int32_t v;
     std::memcpy(&v, at, 4);
     return v;
@@ -136,14 +152,22 @@ std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
               ": truncated data (", i, " of ", count, " vertices)");
     CloudPoint point;
     for (const auto& p : properties) {
-      if (p.name == "x") point.position.x() = value(p);
-      else if (p.name == "y") point.position.y() = value(p);
-      else if (p.name == "z") point.position.z() = value(p);
-      else if (p.name == "red") point.red = static_cast<uint8_t>(value(p));
-      else if (p.name == "green") point.green = static_cast<uint8_t>(value(p));
-      else if (p.name == "blue") point.blue = static_cast<uint8_t>(value(p));
-      else if (p.name == "intensity") point.intensity = static_cast<float>(value(p));
-      else if (p.name == "frame") point.frame = static_cast<int32_t>(value(p));
+      if (p.name == "x")
+        point.position.x() = value(p);
+      else if (p.name == "y")
+        point.position.y() = value(p);
+      else if (p.name == "z")
+        point.position.z() = value(p);
+      else if (p.name == "red")
+        point.red = static_cast<uint8_t>(value(p));
+      else if (p.name == "green")
+        point.green = static_cast<uint8_t>(value(p));
+      else if (p.name == "blue")
+        point.blue = static_cast<uint8_t>(value(p));
+      else if (p.name == "intensity")
+        point.intensity = static_cast<float>(value(p));
+      else if (p.name == "frame")
+        point.frame = static_cast<int32_t>(value(p));
     }
     points.push_back(point);
   }

@@ -40,8 +40,10 @@ TEST(Ply, UnclosedWriterLeavesNothing) {
     writer.Add(CloudPoint{});
   }
   EXPECT_FALSE(std::filesystem::exists(path));
-  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::temp_directory_path())) {
-    EXPECT_EQ(entry.path().filename().string().find("uwscan_ply_unclosed.ply.tmp"), std::string::npos);
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::temp_directory_path())) {
+    EXPECT_EQ(entry.path().filename().string().find("uwscan_ply_unclosed.ply.tmp"),
+              std::string::npos);
   }
 }
 

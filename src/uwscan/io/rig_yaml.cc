@@ -52,8 +52,8 @@ class Map {
   template <size_t N>
   std::array<double, N> Vector(const std::string& key) {
     const YAML::Node value = Get(key);
-    UWS_CHECK(value.IsSequence() && value.size() == N, source_, ": '", Name(key), "' must be a list of ",
-              N, " numbers");
+    UWS_CHECK(value.IsSequence() && value.size() == N, source_, ": '", Name(key),
+              "' must be a list of ", N, " numbers");
     std::array<double, N> result;
     for (size_t i = 0; i < N; ++i) {
       result[i] = ToNumber(value[i], Name(key) + "[" + std::to_string(i) + "]");
@@ -135,7 +135,8 @@ Camera ReadCamera(const YAML::Node& node, const std::string& where, const std::s
   return camera;
 }
 
-LineProjector ReadLaser(const YAML::Node& node, const std::string& where, const std::string& source) {
+LineProjector ReadLaser(const YAML::Node& node, const std::string& where,
+                        const std::string& source) {
   Map map(node, where, source);
   LineProjector laser;
   laser.name = map.String("name");

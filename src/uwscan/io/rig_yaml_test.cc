@@ -92,7 +92,8 @@ TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
     std::string expected;
   };
   const std::vector<Case> cases = {
-      {Edit("    bayer: none\n", "    bayer: none\n    colour: 3\n"), "unknown key 'cameras[0].colour'"},
+      {Edit("    bayer: none\n", "    bayer: none\n    colour: 3\n"),
+       "unknown key 'cameras[0].colour'"},
       {Edit("      d_glass: 0.010\n", ""), "missing key 'cameras[0].port.d_glass'"},
       {Edit("fx: 785.0", "fx: .nan"), "'cameras[0].fx' must be a number"},
       {Edit("fx: 785.0", "fx: nan"), "'cameras[0].fx' must be finite"},
@@ -116,9 +117,7 @@ TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
   }
 }
 
-TEST(RigYaml, MissingFileIsAnError) {
-  EXPECT_THROW(ReadRigYaml("/nonexistent/rig.yaml"), Error);
-}
+TEST(RigYaml, MissingFileIsAnError) { EXPECT_THROW(ReadRigYaml("/nonexistent/rig.yaml"), Error); }
 
 }  // namespace
 }  // namespace uwscan

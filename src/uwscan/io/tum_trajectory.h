@@ -1,7 +1,6 @@
-// TUM trajectory files with gaps (io/tum.h has the plain reader/writer): one pose per line `t x y z qx qy qz qw`
-// (world_from_camera), '#' comments. uwscan marks tracking gaps with
-// comment lines `# gap <t_begin> <t_end> <reason>` so that readers that only
-// know TUM still read the poses.
+// TUM trajectory files with gaps (io/tum.h has the plain reader/writer): one pose per line `t x y z
+// qx qy qz qw` (world_from_camera), '#' comments. uwscan marks tracking gaps with comment lines `#
+// gap <t_begin> <t_end> <reason>` so that readers that only know TUM still read the poses.
 #pragma once
 
 #include <filesystem>

@@ -20,9 +20,12 @@ std::optional<Method> MethodFromName(const std::string& name) {
 
 const char* MethodName(Method method) {
   switch (method) {
-    case Method::kThesis: return "thesis";
-    case Method::kCentreOfGravity: return "cog";
-    default: return "argmax";
+    case Method::kThesis:
+      return "thesis";
+    case Method::kCentreOfGravity:
+      return "cog";
+    default:
+      return "argmax";
   }
 }
 
@@ -49,7 +52,8 @@ ColourLayout LayoutFor(const std::string& bayer, int image_channels) {
 }
 
 void DetectorOptions::Check() const {
-  UWS_CHECK(line_sigma_px > 0.2 && line_sigma_px < 50.0, "laser detection: line sigma must be 0.2-50 px");
+  UWS_CHECK(line_sigma_px > 0.2 && line_sigma_px < 50.0,
+            "laser detection: line sigma must be 0.2-50 px");
   UWS_CHECK(min_snr >= 0.0 && min_strength >= 0.0 && min_contrast >= 0.0,
             "laser detection: thresholds must be >= 0");
   UWS_CHECK(noise_half_window_px >= 2, "laser detection: noise window must be >= 2 px");
@@ -57,7 +61,8 @@ void DetectorOptions::Check() const {
             "laser detection: invalid connectivity settings");
   UWS_CHECK(min_relative_strength >= 0.0 && min_relative_strength <= 1.0,
             "laser detection: relative segment strength must be in [0, 1]");
-  UWS_CHECK(cog_threshold > 0.0 && cog_threshold < 1.0, "laser detection: cog threshold must be in (0, 1)");
+  UWS_CHECK(cog_threshold > 0.0 && cog_threshold < 1.0,
+            "laser detection: cog threshold must be in (0, 1)");
   UWS_CHECK(laser_channel >= kRed && laser_channel <= kMono, "laser detection: invalid channel");
 }
 
@@ -75,7 +80,8 @@ struct BandPass {
   // Response units: kLogScale * (2a + 1) * (2b + 1) per unit of log contrast.
   double Scale() const { return double(kLogScale) * (2 * inner + 1) * (2 * outer + 1); }
 
-  void Apply(const RowSamples& row, const std::vector<uint16_t>& table, std::vector<int32_t>* band) {
+  void Apply(const RowSamples& row, const std::vector<uint16_t>& table,
+             std::vector<int32_t>* band) {
     const int n = row.count;
     // Log scaling through the table fused with the prefix sum.
     prefix.resize(n + 1);
@@ -214,7 +220,8 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
     }
     int left = 0, right = 0, left_count = 0, right_count = 0;
     for (int j = std::max(0, i - outer); j < i - a; ++j) left += samples.Value(j), ++left_count;
-    for (int j = i + a + 1; j <= std::min(n - 1, i + outer); ++j) right += samples.Value(j), ++right_count;
+    for (int j = i + a + 1; j <= std::min(n - 1, i + outer); ++j)
+      right += samples.Value(j), ++right_count;
     if (left_count == 0 || right_count == 0) continue;
     const double left_mean = double(left) / left_count, right_mean = double(right) / right_count;
     const double contrast = peak_value - std::max(left_mean, right_mean);
@@ -238,8 +245,8 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
       ++stats->suppressed_cross_channel;
       continue;
     }
-    peaks->push_back({row, coarse, static_cast<float>(b / scale), laser->channel, i,
-                      laser->offset, laser->stride});
+    peaks->push_back({row, coarse, static_cast<float>(b / scale), laser->channel, i, laser->offset,
+                      laser->stride});
   }
 }
 
@@ -327,8 +334,10 @@ void BaselineLinePeak(const cv::Mat& image, ColourLayout layout, int row, const 
   const ScanChannel* laser = FindLaserChannel(channels, o.laser_channel);
   if (!laser) return;
   const RowSamples samples = RowChannel(image, layout, row, *laser);
-  if (samples.data8) BaselineOnRow(samples.data8 + samples.first, samples, *laser, row, o, peaks);
-  else BaselineOnRow(samples.data16 + samples.first, samples, *laser, row, o, peaks);
+  if (samples.data8)
+    BaselineOnRow(samples.data8 + samples.first, samples, *laser, row, o, peaks);
+  else
+    BaselineOnRow(samples.data16 + samples.first, samples, *laser, row, o, peaks);
 }
 
 }  // namespace
@@ -362,14 +371,15 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
     }
     const auto segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
     detection.stats.segments = static_cast<int>(segments.size());
-    selected = SelectSegments(peaks, segments, image.rows, o.min_segment_lines,
-                              o.min_relative_strength);
+    selected =
+        SelectSegments(peaks, segments, image.rows, o.min_segment_lines, o.min_relative_strength);
     for (const auto& [index, segment] : selected) {
       peaks[index].position = RefinePeak(image, layout, peaks[index], o, &scratch.raw);
     }
     std::vector<bool> used(segments.size(), false);
     for (const auto& [peak, segment] : selected) used[segment] = true;
-    detection.stats.selected_segments = static_cast<int>(std::count(used.begin(), used.end(), true));
+    detection.stats.selected_segments =
+        static_cast<int>(std::count(used.begin(), used.end(), true));
   } else {
     for (int row = 0; row < image.rows; ++row) {
       BaselineLinePeak(image, layout, row, o, &peaks);
@@ -399,8 +409,10 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
       const int lo = std::max(0, static_cast<int>(std::floor(along)) - half);
       const int hi = std::min(limit - 1, static_cast<int>(std::ceil(along)) + half);
       for (int i = lo; i <= hi; ++i) {
-        if (options.scan_rows) detection.mask.at<uint8_t>(line, i) = 255;
-        else detection.mask.at<uint8_t>(i, line) = 255;
+        if (options.scan_rows)
+          detection.mask.at<uint8_t>(line, i) = 255;
+        else
+          detection.mask.at<uint8_t>(i, line) = 255;
       }
     }
   }

@@ -36,15 +36,15 @@ struct DetectorOptions {
   int laser_channel = kGreen;  // ignored for mono input
   double line_sigma_px = 1.5;  // expected Gaussian sigma of the line across it
   // Thesis method.
-  double min_snr = 3.0;          // band-pass response / mean |response| around it
-  double min_strength = 0.02;    // band-pass response in log-intensity units (0..1)
+  double min_snr = 3.0;        // band-pass response / mean |response| around it
+  double min_strength = 0.02;  // band-pass response in log-intensity units (0..1)
   // The log scaling lifts dark noise; a peak must also stand this far above
   // the darkest sample around it in linear intensity (fraction of full scale).
   double min_contrast = 0.02;
-  int noise_half_window_px = 24; // 1D window for the noise mean
-  int max_jump_px = 2;           // connectivity: max shift between consecutive scan lines
-  int max_gap_lines = 2;         // scan lines a segment may skip
-  int min_segment_lines = 6;     // shorter segments are noise (marine snow, specks)
+  int noise_half_window_px = 24;  // 1D window for the noise mean
+  int max_jump_px = 2;            // connectivity: max shift between consecutive scan lines
+  int max_gap_lines = 2;          // scan lines a segment may skip
+  int min_segment_lines = 6;      // shorter segments are noise (marine snow, specks)
   // Further segments must reach this share of the best segment's mean
   // strength: the line is one light source, texture stripes are fainter.
   double min_relative_strength = 0.3;

@@ -14,15 +14,16 @@ namespace uwscan::laser {
 namespace {
 
 struct Score {
-  double rms = 0.0;          // px, over true points found within 1 px
-  double completeness = 0.0; // share of true rows found within 1 px
-  double outliers = 0.0;     // share of detections > 2 px from the truth
+  double rms = 0.0;           // px, over true points found within 1 px
+  double completeness = 0.0;  // share of true rows found within 1 px
+  double outliers = 0.0;      // share of detections > 2 px from the truth
   int detections = 0;
 };
 
 Score Evaluate(const Detection& detection, const SyntheticLine& line, bool scan_rows = true) {
   std::map<int, double> truth;
-  for (const auto& p : line.truth) truth[static_cast<int>(scan_rows ? p.y : p.x)] = scan_rows ? p.x : p.y;
+  for (const auto& p : line.truth)
+    truth[static_cast<int>(scan_rows ? p.y : p.x)] = scan_rows ? p.x : p.y;
   Score score;
   double sum = 0.0;
   int found = 0, outliers = 0;
@@ -68,7 +69,8 @@ TEST(LaserDetector, NoisyTexturedMono8Bit) {
   EXPECT_LT(score.outliers, 0.01);
   // The mask covers every detection.
   for (const auto& p : detection.points) {
-    EXPECT_EQ(detection.mask.at<uint8_t>(static_cast<int>(p.v), static_cast<int>(std::lround(p.u))), 255);
+    EXPECT_EQ(detection.mask.at<uint8_t>(static_cast<int>(p.v), static_cast<int>(std::lround(p.u))),
+              255);
   }
   EXPECT_GT(cv::countNonZero(detection.mask), 5 * static_cast<int>(detection.points.size()));
 }
@@ -115,7 +117,8 @@ TEST(LaserDetector, FrameWithoutLaserGivesNoPoints) {
   o.stripe = true;
   const SyntheticLine line = RenderSyntheticLine(o);
   ASSERT_TRUE(line.truth.empty());
-  const Detection detection = DetectLaserLine(line.image, ColourLayout::kBayerRggb, DetectorOptions{});
+  const Detection detection =
+      DetectLaserLine(line.image, ColourLayout::kBayerRggb, DetectorOptions{});
   EXPECT_TRUE(detection.points.empty()) << detection.points.size();
   EXPECT_EQ(cv::countNonZero(detection.mask), 0);
 }
@@ -164,7 +167,8 @@ TEST(LaserDetector, SaturatedLineUsesFlankMidpoint) {
   // A clipped Gaussian at 10.3 (sigma 1.2, peak 3x the clip level).
   float clipped[21];
   for (int i = 0; i < 21; ++i) {
-    clipped[i] = std::min(1.0f, static_cast<float>(0.05 + 3.0 * std::exp(-0.5 * std::pow((i - 10.3) / 1.2, 2))));
+    clipped[i] = std::min(
+        1.0f, static_cast<float>(0.05 + 3.0 * std::exp(-0.5 * std::pow((i - 10.3) / 1.2, 2))));
   }
   EXPECT_NEAR(GaussianPeakPosition(clipped, 21, 10, 2, 0.05f), 10.3, 0.05);
 }
@@ -173,7 +177,8 @@ TEST(LaserDetector, GaussianFitIsExactOnSampledGaussian) {
   for (double centre : {10.0, 10.3, 9.55}) {
     float samples[21];
     for (int i = 0; i < 21; ++i) {
-      samples[i] = static_cast<float>(0.05 + 0.8 * std::exp(-0.5 * std::pow((i - centre) / 2.0, 2)));
+      samples[i] =
+          static_cast<float>(0.05 + 0.8 * std::exp(-0.5 * std::pow((i - centre) / 2.0, 2)));
     }
     const int k = static_cast<int>(std::lround(centre));
     EXPECT_NEAR(GaussianPeakPosition(samples, 21, k, 2, 0.05f), centre, 1e-4);
@@ -183,10 +188,11 @@ TEST(LaserDetector, GaussianFitIsExactOnSampledGaussian) {
 TEST(LaserSegments, ScoreFollowsEquation51AndSelectionAvoidsOverlap) {
   std::vector<Peak> peaks;
   for (int line = 0; line < 10; ++line) {
-    peaks.push_back({line, 50.0 + 0.5 * line, 0.1f, kGreen});  // long, strong
+    peaks.push_back({line, 50.0 + 0.5 * line, 0.1f, kGreen});                 // long, strong
     if (line >= 3 && line < 7) peaks.push_back({line, 100.0, 0.5f, kGreen});  // short, bright
   }
-  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.line < b.line; });
+  std::sort(peaks.begin(), peaks.end(),
+            [](const Peak& a, const Peak& b) { return a.line < b.line; });
   const auto segments = GroupPeaks(peaks, 2, 1);
   ASSERT_EQ(segments.size(), 2u);
   for (const auto& s : segments) {
@@ -206,8 +212,10 @@ TEST(LaserSegments, ScoreFollowsEquation51AndSelectionAvoidsOverlap) {
 
 TEST(LaserDetector, RejectsBadImages) {
   EXPECT_THROW(DetectLaserLine(cv::Mat(), ColourLayout::kMono, DetectorOptions{}), Error);
-  EXPECT_THROW(DetectLaserLine(cv::Mat(10, 10, CV_32F), ColourLayout::kMono, DetectorOptions{}), Error);
-  EXPECT_THROW(DetectLaserLine(cv::Mat(10, 10, CV_8UC3), ColourLayout::kMono, DetectorOptions{}), Error);
+  EXPECT_THROW(DetectLaserLine(cv::Mat(10, 10, CV_32F), ColourLayout::kMono, DetectorOptions{}),
+               Error);
+  EXPECT_THROW(DetectLaserLine(cv::Mat(10, 10, CV_8UC3), ColourLayout::kMono, DetectorOptions{}),
+               Error);
 }
 
 }  // namespace

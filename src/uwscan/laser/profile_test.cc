@@ -56,7 +56,9 @@ TEST(LaserProfile, ServoTurnsAboutTheLineDirection) {
   const Rigid3d turned = CameraFromLaserAtAngle(laser.camera_from_laser, 0.3);
   // The line direction (laser x) and the origin stay; the sheet normal turns by 0.3 rad.
   EXPECT_LT((turned.rotation * Eigen::Vector3d::UnitX() -
-             laser.camera_from_laser.rotation * Eigen::Vector3d::UnitX()).norm(), 1e-15);
+             laser.camera_from_laser.rotation * Eigen::Vector3d::UnitX())
+                .norm(),
+            1e-15);
   EXPECT_EQ(turned.translation, laser.camera_from_laser.translation);
   const double cosine = (turned.rotation * Eigen::Vector3d::UnitY())
                             .dot(laser.camera_from_laser.rotation * Eigen::Vector3d::UnitY());

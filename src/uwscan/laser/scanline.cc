@@ -13,11 +13,16 @@ using Pattern = std::array<std::array<int, 2>, 2>;
 
 Pattern BayerPattern(ColourLayout layout) {
   switch (layout) {
-    case ColourLayout::kBayerRggb: return {{{kRed, kGreen}, {kGreen, kBlue}}};
-    case ColourLayout::kBayerBggr: return {{{kBlue, kGreen}, {kGreen, kRed}}};
-    case ColourLayout::kBayerGrbg: return {{{kGreen, kRed}, {kBlue, kGreen}}};
-    case ColourLayout::kBayerGbrg: return {{{kGreen, kBlue}, {kRed, kGreen}}};
-    default: UWS_THROW("not a Bayer layout");
+    case ColourLayout::kBayerRggb:
+      return {{{kRed, kGreen}, {kGreen, kBlue}}};
+    case ColourLayout::kBayerBggr:
+      return {{{kBlue, kGreen}, {kGreen, kRed}}};
+    case ColourLayout::kBayerGrbg:
+      return {{{kGreen, kRed}, {kBlue, kGreen}}};
+    case ColourLayout::kBayerGbrg:
+      return {{{kGreen, kBlue}, {kRed, kGreen}}};
+    default:
+      UWS_THROW("not a Bayer layout");
   }
 }
 
@@ -41,9 +46,12 @@ const std::vector<uint16_t>& LogTable(int depth) {
 
 ColourLayout TransposedLayout(ColourLayout layout) {
   switch (layout) {
-    case ColourLayout::kBayerGrbg: return ColourLayout::kBayerGbrg;
-    case ColourLayout::kBayerGbrg: return ColourLayout::kBayerGrbg;
-    default: return layout;  // mono, BGR, RGGB and BGGR are symmetric
+    case ColourLayout::kBayerGrbg:
+      return ColourLayout::kBayerGbrg;
+    case ColourLayout::kBayerGbrg:
+      return ColourLayout::kBayerGrbg;
+    default:
+      return layout;  // mono, BGR, RGGB and BGGR are symmetric
   }
 }
 

@@ -20,7 +20,7 @@ struct ScanChannel {
 
 // The samples of one channel on one row, read in place.
 struct RowSamples {
-  const uint8_t* data8 = nullptr;    // one of the two is set
+  const uint8_t* data8 = nullptr;  // one of the two is set
   const uint16_t* data16 = nullptr;
   int first = 0;  // element index of sample 0
   int step = 1;   // elements between samples

@@ -20,9 +20,10 @@ std::vector<Segment> GroupPeaks(const std::vector<Peak>& peaks, int max_jump, in
     size_t end = begin;
     while (end < peaks.size() && peaks[end].line == line) ++end;
     // Close segments that fell too far behind.
-    open.erase(std::remove_if(open.begin(), open.end(),
-                              [&](const Open& o) { return line - peaks[o.last_peak].line > max_gap + 1; }),
-               open.end());
+    open.erase(
+        std::remove_if(open.begin(), open.end(),
+                       [&](const Open& o) { return line - peaks[o.last_peak].line > max_gap + 1; }),
+        open.end());
     // Greedy assignment by distance: the closest (segment, peak) pairs join
     // first, each segment and each peak at most once. The reach grows slowly
     // over skipped lines.
@@ -38,7 +39,8 @@ std::vector<Segment> GroupPeaks(const std::vector<Peak>& peaks, int max_jump, in
       const double reach = max_jump * (1.0 + 0.5 * (line - last.line - 1));
       for (size_t i = begin; i < end; ++i) {
         const double distance = std::abs(peaks[i].position - last.position);
-        if (distance <= reach) candidates.push_back({distance, static_cast<int>(o), static_cast<int>(i)});
+        if (distance <= reach)
+          candidates.push_back({distance, static_cast<int>(o), static_cast<int>(i)});
       }
     }
     std::sort(candidates.begin(), candidates.end(),
@@ -96,8 +98,9 @@ std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
       selected.emplace_back(p, s);
     }
   }
-  std::sort(selected.begin(), selected.end(),
-            [&](const auto& a, const auto& b) { return peaks[a.first].line < peaks[b.first].line; });
+  std::sort(selected.begin(), selected.end(), [&](const auto& a, const auto& b) {
+    return peaks[a.first].line < peaks[b.first].line;
+  });
   return selected;
 }
 

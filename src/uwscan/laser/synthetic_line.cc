@@ -17,11 +17,16 @@ double PixelIntegratedGaussian(double x, double centre, double sigma) {
 int ColourAt(ColourLayout layout, int row, int col) {
   const int r = row % 2, c = col % 2;
   switch (layout) {
-    case ColourLayout::kBayerRggb: return r == 0 ? (c == 0 ? kRed : kGreen) : (c == 0 ? kGreen : kBlue);
-    case ColourLayout::kBayerBggr: return r == 0 ? (c == 0 ? kBlue : kGreen) : (c == 0 ? kGreen : kRed);
-    case ColourLayout::kBayerGrbg: return r == 0 ? (c == 0 ? kGreen : kRed) : (c == 0 ? kBlue : kGreen);
-    case ColourLayout::kBayerGbrg: return r == 0 ? (c == 0 ? kGreen : kBlue) : (c == 0 ? kRed : kGreen);
-    default: return kMono;
+    case ColourLayout::kBayerRggb:
+      return r == 0 ? (c == 0 ? kRed : kGreen) : (c == 0 ? kGreen : kBlue);
+    case ColourLayout::kBayerBggr:
+      return r == 0 ? (c == 0 ? kBlue : kGreen) : (c == 0 ? kGreen : kRed);
+    case ColourLayout::kBayerGrbg:
+      return r == 0 ? (c == 0 ? kGreen : kRed) : (c == 0 ? kBlue : kGreen);
+    case ColourLayout::kBayerGbrg:
+      return r == 0 ? (c == 0 ? kGreen : kBlue) : (c == 0 ? kRed : kGreen);
+    default:
+      return kMono;
   }
 }
 
@@ -52,23 +57,29 @@ SyntheticLine RenderSyntheticLine(const SyntheticLineOptions& o) {
     for (int u = 0; u < o.width; ++u) {
       const double laser = lit ? o.amplitude * PixelIntegratedGaussian(u, centre, o.sigma_px) : 0.0;
       double scene = o.background + o.texture * texture.at<double>(v, u);
-      if (o.stripe) scene += o.stripe_amplitude * PixelIntegratedGaussian(u, stripe_centre, o.stripe_sigma_px);
+      if (o.stripe)
+        scene += o.stripe_amplitude * PixelIntegratedGaussian(u, stripe_centre, o.stripe_sigma_px);
       const auto value = [&](int channel) {
-        const double signal = channel == kMono ? laser + scene
-                                               : laser * o.laser_colour[channel] + scene * o.scene_colour[channel];
+        const double signal =
+            channel == kMono ? laser + scene
+                             : laser * o.laser_colour[channel] + scene * o.scene_colour[channel];
         const double noisy = signal + o.noise * gaussian(rng);
         return std::clamp(std::round(noisy * full), 0.0, full);
       };
       if (channels == 3) {
         for (int c = 0; c < 3; ++c) {
           const double x = value(c);
-          if (o.sixteen_bit) result.image.at<cv::Vec3w>(v, u)[2 - c] = static_cast<uint16_t>(x);
-          else result.image.at<cv::Vec3b>(v, u)[2 - c] = static_cast<uint8_t>(x);
+          if (o.sixteen_bit)
+            result.image.at<cv::Vec3w>(v, u)[2 - c] = static_cast<uint16_t>(x);
+          else
+            result.image.at<cv::Vec3b>(v, u)[2 - c] = static_cast<uint8_t>(x);
         }
       } else {
         const double x = value(ColourAt(o.layout, v, u));
-        if (o.sixteen_bit) result.image.at<uint16_t>(v, u) = static_cast<uint16_t>(x);
-        else result.image.at<uint8_t>(v, u) = static_cast<uint8_t>(x);
+        if (o.sixteen_bit)
+          result.image.at<uint16_t>(v, u) = static_cast<uint16_t>(x);
+        else
+          result.image.at<uint8_t>(v, u) = static_cast<uint8_t>(x);
       }
     }
   }

@@ -19,11 +19,11 @@ struct SyntheticLineOptions {
   double slope = 0.15;
   double curvature = 0.0;
   double sigma_px = 1.5;
-  double amplitude = 0.7;     // peak, fraction of full scale (laser colour)
-  double background = 0.15;   // mean scene brightness (LED colour)
-  double texture = 0.03;      // standard deviation of smooth random texture
-  double noise = 0.008;       // Gaussian read noise, fraction of full scale
-  int first_row = 0;          // rows outside [first_row, last_row] have no laser
+  double amplitude = 0.7;    // peak, fraction of full scale (laser colour)
+  double background = 0.15;  // mean scene brightness (LED colour)
+  double texture = 0.03;     // standard deviation of smooth random texture
+  double noise = 0.008;      // Gaussian read noise, fraction of full scale
+  int first_row = 0;         // rows outside [first_row, last_row] have no laser
   int last_row = 1 << 30;
   // Optional painted stripe (scene texture that looks like a line): white paint
   // lit by the LED, so it has the LED's colour.

@@ -26,9 +26,11 @@ std::map<int, Rigid3d> PosesByFrame(const fs::path& tum, const fs::path& frames_
   }
   std::map<int, Rigid3d> by_frame;
   for (const auto& pose : poses) {
-    const auto nearest = std::min_element(frames.begin(), frames.end(), [&](const auto& a, const auto& b) {
-      return std::abs(a.timestamp_s - pose.timestamp_s) < std::abs(b.timestamp_s - pose.timestamp_s);
-    });
+    const auto nearest =
+        std::min_element(frames.begin(), frames.end(), [&](const auto& a, const auto& b) {
+          return std::abs(a.timestamp_s - pose.timestamp_s) <
+                 std::abs(b.timestamp_s - pose.timestamp_s);
+        });
     if (std::abs(nearest->timestamp_s - pose.timestamp_s) <= 0.5 * interval + 1e-9) {
       by_frame[nearest->index] = pose.world_from_camera;
     }
@@ -51,8 +53,8 @@ ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const f
   std::map<int, Rigid3d> first_everywhere;
   for (const auto& [frame, pose] : truth) first_everywhere[frame] = estimated.begin()->second;
   ReconstructionEvaluation evaluation;
-  evaluation.compensated = EvaluateCloud(ReadPly(result / "cloud.ply"), estimated, truth, camera,
-                                         scenario.config.scene);
+  evaluation.compensated =
+      EvaluateCloud(ReadPly(result / "cloud.ply"), estimated, truth, camera, scenario.config.scene);
   evaluation.uncompensated = EvaluateCloud(ReadPly(result / "cloud_uncompensated.ply"),
                                            first_everywhere, truth, camera, scenario.config.scene);
   return evaluation;

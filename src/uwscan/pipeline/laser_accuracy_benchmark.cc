@@ -41,7 +41,8 @@ std::optional<Eigen::Vector3d> TruePointOnScanLine(const std::vector<sim::LaserP
 
 }  // namespace
 
-std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(const LaserAccuracyBenchmarkOptions& options) {
+std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(
+    const LaserAccuracyBenchmarkOptions& options) {
   options.Check();
   std::vector<LaserAccuracyRow> rows;
   for (const auto& turbidity : options.turbidities) {
@@ -71,18 +72,21 @@ std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(const LaserAccuracyBench
         const auto truth_points = renderer.LaserGroundTruth(state, 0.5);
         std::vector<Eigen::Vector2d> truth;
         for (const auto& p : truth_points) truth.push_back(p.pixel);
-        const Rigid3d camera_from_laser = renderer.CameraFromLaser(0, state.laser_angles_rad.empty() ? 0.0 : state.laser_angles_rad[0]);
+        const Rigid3d camera_from_laser = renderer.CameraFromLaser(
+            0, state.laser_angles_rad.empty() ? 0.0 : state.laser_angles_rad[0]);
         int m = 0;
-        for (const auto method : {laser::Method::kThesis, laser::Method::kCentreOfGravity,
-                                  laser::Method::kArgmax}) {
+        for (const auto method :
+             {laser::Method::kThesis, laser::Method::kCentreOfGravity, laser::Method::kArgmax}) {
           detector.method = method;
           const auto detection = laser::DetectLaserLine(rendered.image, layout, detector);
           std::vector<Eigen::Vector2d> detected;
           for (const auto& p : detection.points) detected.emplace_back(p.u, p.v);
           totals[m].Add(EvaluateLaserFrame(truth, detected, detector.scan_rows));
-          const auto profile = laser::TriangulateProfile(camera, laser, camera_from_laser, detection.points);
+          const auto profile =
+              laser::TriangulateProfile(camera, laser, camera_from_laser, detection.points);
           for (const auto& p : profile.points) {
-            if (const auto true_point = TruePointOnScanLine(truth_points, p.pixel, detector.scan_rows)) {
+            if (const auto true_point =
+                    TruePointOnScanLine(truth_points, p.pixel, detector.scan_rows)) {
               profile_sum[m] += (p.point_in_camera - *true_point).squaredNorm();
               ++profile_count[m];
             }
@@ -104,7 +108,8 @@ std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(const LaserAccuracyBench
 
 std::string LaserAccuracyToMarkdown(const std::vector<LaserAccuracyRow>& rows) {
   std::ostringstream out;
-  out << "| water | LED | method | RMS (px) | completeness | outliers | detections | profile RMS (mm) |\n"
+  out << "| water | LED | method | RMS (px) | completeness | outliers | detections | profile RMS "
+         "(mm) |\n"
       << "|---|---|---|---|---|---|---|---|\n";
   char line[256];
   for (const auto& r : rows) {

@@ -14,7 +14,7 @@ namespace uwscan {
 struct LaserAccuracyBenchmarkOptions {
   int width = 1280;  // the thesis camera
   int height = 960;
-  int frames = 6;    // servo positions spread over the sweep
+  int frames = 6;  // servo positions spread over the sweep
   unsigned seed = 11;
   // Petzold's clear and coastal waters, two particle attenuations c_p(530)
   // between coastal and harbour (1/m), and the turbid harbour.
@@ -33,7 +33,8 @@ struct LaserAccuracyRow {
   long profile_points = 0;
 };
 
-std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(const LaserAccuracyBenchmarkOptions& options);
+std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(
+    const LaserAccuracyBenchmarkOptions& options);
 std::string LaserAccuracyToMarkdown(const std::vector<LaserAccuracyRow>& rows);
 
 }  // namespace uwscan

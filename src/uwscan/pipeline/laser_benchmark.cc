@@ -1,7 +1,6 @@
 #include "uwscan/pipeline/laser_benchmark.h"
 
 #include <chrono>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "uwscan/io/rig_yaml.h"
@@ -13,7 +12,8 @@ namespace uwscan {
 
 void LaserBenchmarkOptions::Check() const {
   UWS_CHECK(width >= 64 && height >= 64, "bench laser: frames must be at least 64x64");
-  UWS_CHECK(frames >= 1 && repetitions >= 1, "bench laser: --frames and --repetitions must be >= 1");
+  UWS_CHECK(frames >= 1 && repetitions >= 1,
+            "bench laser: --frames and --repetitions must be >= 1");
 }
 
 std::vector<cv::Mat> MakeLaserBenchmarkFrames(const LaserBenchmarkOptions& options) {
@@ -60,8 +60,8 @@ std::vector<LaserRate> RunLaserBenchmark(const std::vector<cv::Mat>& frames,
   options.Check();
   UWS_CHECK(!frames.empty(), "bench laser: no frames");
   std::vector<LaserRate> rates;
-  for (const auto method : {laser::Method::kArgmax, laser::Method::kCentreOfGravity,
-                            laser::Method::kThesis}) {
+  for (const auto method :
+       {laser::Method::kArgmax, laser::Method::kCentreOfGravity, laser::Method::kThesis}) {
     laser::DetectorOptions detector = base;
     detector.method = method;
     double best = 1e30;
@@ -72,7 +72,8 @@ std::vector<LaserRate> RunLaserBenchmark(const std::vector<cv::Mat>& frames,
       for (const auto& frame : frames) {
         points += laser::DetectLaserLine(frame, layout, detector).points.size();
       }
-      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      best = std::min(
+          best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
     rates.push_back({laser::MethodName(method), frames.size() / best,
                      static_cast<double>(points) / frames.size()});

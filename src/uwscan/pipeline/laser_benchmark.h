@@ -3,10 +3,9 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "uwscan/laser/detector.h"
 
@@ -15,9 +14,9 @@ namespace uwscan {
 struct LaserBenchmarkOptions {
   int width = 1280;
   int height = 960;
-  int frames = 20;        // distinct synthetic frames (used when no images are given)
-  int repetitions = 5;    // passes over all frames; the best pass counts
-  bool bayer = false;     // synthetic frames as raw RGGB instead of 8-bit mono
+  int frames = 20;      // distinct synthetic frames (used when no images are given)
+  int repetitions = 5;  // passes over all frames; the best pass counts
+  bool bayer = false;   // synthetic frames as raw RGGB instead of 8-bit mono
   void Check() const;
 };
 

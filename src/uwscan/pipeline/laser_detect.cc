@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 
 void LaserDetectJob::Check() const {
   detector.Check();
-  UWS_CHECK(scan == "rows" || scan == "cols" || scan == "auto", "--scan must be rows, cols or auto");
+  UWS_CHECK(scan == "rows" || scan == "cols" || scan == "auto",
+            "--scan must be rows, cols or auto");
   UWS_CHECK(channel == "red" || channel == "green" || channel == "blue" || channel == "auto",
             "--channel must be red, green, blue or auto");
   UWS_CHECK(dataset_dir.empty() != images_dir.empty(), "give either --dataset or --images");
@@ -39,7 +40,8 @@ std::vector<fs::path> ListImages(const fs::path& dir) {
     }
   }
   std::sort(images.begin(), images.end());
-  UWS_CHECK(!images.empty(), dir.string(), ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder");
+  UWS_CHECK(!images.empty(), dir.string(),
+            ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder");
   return images;
 }
 
@@ -63,13 +65,25 @@ cv::Mat OverlayImage(const cv::Mat& image, laser::ColourLayout layout,
   cv::Mat eight = image;
   if (image.depth() == CV_16U) image.convertTo(eight, CV_8U, 1.0 / 256.0);
   switch (layout) {
-    case laser::ColourLayout::kBgr: bgr = eight.clone(); break;
-    case laser::ColourLayout::kMono: cv::cvtColor(eight, bgr, cv::COLOR_GRAY2BGR); break;
+    case laser::ColourLayout::kBgr:
+      bgr = eight.clone();
+      break;
+    case laser::ColourLayout::kMono:
+      cv::cvtColor(eight, bgr, cv::COLOR_GRAY2BGR);
+      break;
     // OpenCV names Bayer codes by the second row's pattern start.
-    case laser::ColourLayout::kBayerRggb: cv::cvtColor(eight, bgr, cv::COLOR_BayerBG2BGR); break;
-    case laser::ColourLayout::kBayerBggr: cv::cvtColor(eight, bgr, cv::COLOR_BayerRG2BGR); break;
-    case laser::ColourLayout::kBayerGrbg: cv::cvtColor(eight, bgr, cv::COLOR_BayerGB2BGR); break;
-    case laser::ColourLayout::kBayerGbrg: cv::cvtColor(eight, bgr, cv::COLOR_BayerGR2BGR); break;
+    case laser::ColourLayout::kBayerRggb:
+      cv::cvtColor(eight, bgr, cv::COLOR_BayerBG2BGR);
+      break;
+    case laser::ColourLayout::kBayerBggr:
+      cv::cvtColor(eight, bgr, cv::COLOR_BayerRG2BGR);
+      break;
+    case laser::ColourLayout::kBayerGrbg:
+      cv::cvtColor(eight, bgr, cv::COLOR_BayerGB2BGR);
+      break;
+    case laser::ColourLayout::kBayerGbrg:
+      cv::cvtColor(eight, bgr, cv::COLOR_BayerGR2BGR);
+      break;
   }
   for (const auto& p : detection.points) {
     const int u = static_cast<int>(std::lround(p.u)), v = static_cast<int>(std::lround(p.v));
@@ -80,7 +94,8 @@ cv::Mat OverlayImage(const cv::Mat& image, laser::ColourLayout layout,
 
 void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
   std::vector<uchar> buffer;
-  UWS_CHECK(cv::imencode(path.extension().string(), image, buffer), path.string(), ": cannot encode");
+  UWS_CHECK(cv::imencode(path.extension().string(), image, buffer), path.string(),
+            ": cannot encode");
   AtomicFile file(path, /*binary=*/true);
   file.stream().write(reinterpret_cast<const char*>(buffer.data()), buffer.size());
   file.Commit();
@@ -112,7 +127,8 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     if (job.rig_path) rig = ReadRigYaml(*job.rig_path);
   }
   const Camera* camera = rig ? &rig->CameraByName(job.camera_name) : nullptr;
-  const LineProjector* laser = rig && !rig->lasers.empty() ? &rig->LaserByName(job.laser_name) : nullptr;
+  const LineProjector* laser =
+      rig && !rig->lasers.empty() ? &rig->LaserByName(job.laser_name) : nullptr;
   UWS_CHECK(!job.profiles_csv || laser, "--profiles needs a laser in the rig");
   size_t camera_index = 0, laser_index = 0;
   if (rig) {
@@ -123,12 +139,18 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       laser ? rig->CameraFromLaser(camera_index, laser_index) : Rigid3d();
 
   laser::DetectorOptions options = job.detector;
-  if (job.scan != "auto") options.scan_rows = job.scan == "rows";
-  else if (camera && laser) options.scan_rows = LaserLineIsVertical(*camera, camera_from_laser);
-  if (job.channel == "red") options.laser_channel = laser::kRed;
-  else if (job.channel == "green") options.laser_channel = laser::kGreen;
-  else if (job.channel == "blue") options.laser_channel = laser::kBlue;
-  else if (laser) options.laser_channel = laser::ChannelForWavelength(laser->wavelength_nm);
+  if (job.scan != "auto")
+    options.scan_rows = job.scan == "rows";
+  else if (camera && laser)
+    options.scan_rows = LaserLineIsVertical(*camera, camera_from_laser);
+  if (job.channel == "red")
+    options.laser_channel = laser::kRed;
+  else if (job.channel == "green")
+    options.laser_channel = laser::kGreen;
+  else if (job.channel == "blue")
+    options.laser_channel = laser::kBlue;
+  else if (laser)
+    options.laser_channel = laser::ChannelForWavelength(laser->wavelength_nm);
   options.make_mask = false;  // not written by this command
   if (job.overlay_dir) fs::create_directories(*job.overlay_dir);
 
@@ -163,14 +185,15 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     if (detection.points.empty()) ++summary.frames_without_line;
     summary.points += detection.points.size();
     for (const auto& p : detection.points) {
-      std::snprintf(line, sizeof(line), "%zu,%.4f,%.4f,%d,%.5g\n", frame, p.u, p.v, p.channel, p.strength);
+      std::snprintf(line, sizeof(line), "%zu,%.4f,%.4f,%d,%.5g\n", frame, p.u, p.v, p.channel,
+                    p.strength);
       detections.stream() << line;
     }
     if (profiles) {
       const double angle = angles[i];
       const auto profile = laser::TriangulateProfile(
-          *camera, *laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), detection.points,
-          static_cast<int>(frame));
+          *camera, *laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle),
+          detection.points, static_cast<int>(frame));
       summary.profile_points += profile.points.size();
       for (const auto& p : profile.points) {
         std::snprintf(line, sizeof(line), "%zu,%.7f,%.7f,%.7f\n", frame, p.point_in_camera.x(),

@@ -18,13 +18,13 @@ struct LaserDetectJob {
   std::filesystem::path dataset_dir;
   std::filesystem::path images_dir;
   std::optional<std::filesystem::path> rig_path;
-  std::string camera_name;               // default: the first camera
-  std::string laser_name;                // default: the first laser
-  std::filesystem::path detections_csv;  // frame,u,v,channel,strength
+  std::string camera_name;                            // default: the first camera
+  std::string laser_name;                             // default: the first laser
+  std::filesystem::path detections_csv;               // frame,u,v,channel,strength
   std::optional<std::filesystem::path> profiles_csv;  // frame,x,y,z (needs a rig with a laser)
   std::optional<std::filesystem::path> overlay_dir;
-  std::string scan = "auto";             // rows | cols | auto (from the rig)
-  std::string channel = "auto";          // red | green | blue | auto (laser wavelength)
+  std::string scan = "auto";     // rows | cols | auto (from the rig)
+  std::string channel = "auto";  // red | green | blue | auto (laser wavelength)
   laser::DetectorOptions detector;
   bool quiet = false;
   void Check() const;

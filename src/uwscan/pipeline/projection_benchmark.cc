@@ -2,8 +2,8 @@
 
 #include <chrono>
 #include <iomanip>
-#include <sstream>
 #include <random>
+#include <sstream>
 
 #include "uwscan/eval/port_analysis.h"
 #include "uwscan/sensor/camera.h"
@@ -128,7 +128,8 @@ std::vector<TaylorAccuracy> RunTaylorAccuracy(int step_px) {
                                                       points[i].data(), start_normalized,
                                                       iterations, projected, variant);
               UWS_CHECK(ok, "Taylor accuracy: projection failed on ", name);
-              start_errors.push_back((Eigen::Vector2d(start_pixel[0], start_pixel[1]) - pixels[i]).norm());
+              start_errors.push_back(
+                  (Eigen::Vector2d(start_pixel[0], start_pixel[1]) - pixels[i]).norm());
               errors.push_back((Eigen::Vector2d(projected[0], projected[1]) - pixels[i]).norm());
             }
             const ErrorStats stats = ComputeErrorStats(errors);
@@ -155,7 +156,8 @@ nlohmann::json ProjectionBenchmarkToJson(const std::vector<ProjectionRate>& rate
   for (const auto& rate : rates) {
     double pinhole_rate = 0.0;
     for (const auto& other : rates) {
-      if (other.camera == rate.camera && other.method == "pinhole") pinhole_rate = other.points_per_second;
+      if (other.camera == rate.camera && other.method == "pinhole")
+        pinhole_rate = other.points_per_second;
     }
     json["results"].push_back({{"camera", rate.camera},
                                {"method", rate.method},
@@ -185,7 +187,8 @@ std::string ProjectionBenchmarkToMarkdown(const std::vector<ProjectionRate>& rat
   for (const auto& rate : rates) {
     double pinhole_rate = 0.0;
     for (const auto& other : rates) {
-      if (other.camera == rate.camera && other.method == "pinhole") pinhole_rate = other.points_per_second;
+      if (other.camera == rate.camera && other.method == "pinhole")
+        pinhole_rate = other.points_per_second;
     }
     out << "| " << rate.camera << " | " << rate.method << " | " << std::fixed
         << std::setprecision(2) << rate.points_per_second / 1e6 << " | " << std::setprecision(1)
@@ -193,7 +196,8 @@ std::string ProjectionBenchmarkToMarkdown(const std::vector<ProjectionRate>& rat
         << std::setprecision(2) << rate.max_error_px << " |\n";
     out.unsetf(std::ios::floatfield);
   }
-  out << "\n| camera | depth (m) | start | variant | start max | 1 it max | 2 it max | 3 it max | 3 it median |\n"
+  out << "\n| camera | depth (m) | start | variant | start max | 1 it max | 2 it max | 3 it max | "
+         "3 it median |\n"
       << "|---|---|---|---|---|---|---|---|---|\n";
   for (size_t i = 0; i + 2 < accuracy.size(); i += 3) {
     const auto& a = accuracy[i];

@@ -9,8 +9,8 @@
 namespace uwscan {
 
 struct ProjectionBenchmarkOptions {
-  int points = 200000;   // points per camera (random pixels at 0.5-10 m)
-  int repetitions = 5;   // best of N
+  int points = 200000;  // points per camera (random pixels at 0.5-10 m)
+  int repetitions = 5;  // best of N
   unsigned seed = 1;
   void Check() const;
 };

@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <iostream>
-
 #include <map>
 
 #include "uwscan/fusion/self_referenced.h"
@@ -28,7 +27,9 @@ double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-uint8_t ToByte(float value) { return static_cast<uint8_t>(std::clamp(value * 255.0f, 0.0f, 255.0f)); }
+uint8_t ToByte(float value) {
+  return static_cast<uint8_t>(std::clamp(value * 255.0f, 0.0f, 255.0f));
+}
 
 }  // namespace
 
@@ -57,7 +58,6 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"real_time_factor", RealTimeFactor()}};
 }
 
-
 ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
@@ -70,7 +70,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   const Rigid3d camera_from_laser = rig.CameraFromLaser(camera_index, laser_index);
   auto frames = ReadFramesCsv(job.dataset / "frames.csv");
   UWS_CHECK(!frames.empty(), (job.dataset / "frames.csv").string(), ": no frames");
-  if (job.max_frames > 0 && static_cast<int>(frames.size()) > job.max_frames) frames.resize(job.max_frames);
+  if (job.max_frames > 0 && static_cast<int>(frames.size()) > job.max_frames)
+    frames.resize(job.max_frames);
 
   laser::DetectorOptions detector = job.detector;
   detector.scan_rows = LaserLineIsVertical(camera, camera_from_laser);
@@ -95,11 +96,11 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
 
   ReconstructReport report;
   report.pose_source = provider->Name();
-  report.sequence_duration_s = frames.size() > 1
-                                   ? frames.back().timestamp_s - frames.front().timestamp_s +
-                                         (frames.back().timestamp_s - frames.front().timestamp_s) /
-                                             (frames.size() - 1)
-                                   : 0.0;
+  report.sequence_duration_s =
+      frames.size() > 1
+          ? frames.back().timestamp_s - frames.front().timestamp_s +
+                (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
+          : 0.0;
   ProgressBar progress("reconstruct", static_cast<long>(frames.size()), !job.quiet);
   // Profiles wait here until the provider reports their frame's pose.
   struct Pending {
@@ -136,9 +137,9 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     const FrameRecord& record = frames[i];
     auto t = std::chrono::steady_clock::now();
     const cv::Mat image = ReadImage(job.dataset / record.file);
-    UWS_CHECK(image.cols == camera.width && image.rows == camera.height, (job.dataset / record.file).string(),
-              ": image is ", image.cols, "x", image.rows, " but camera '", camera.name, "' is ",
-              camera.width, "x", camera.height);
+    UWS_CHECK(image.cols == camera.width && image.rows == camera.height,
+              (job.dataset / record.file).string(), ": image is ", image.cols, "x", image.rows,
+              " but camera '", camera.name, "' is ", camera.width, "x", camera.height);
     report.seconds_io += Seconds(t);
 
     t = std::chrono::steady_clock::now();
@@ -170,7 +171,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   place(provider->Finish());
   report.frames_without_pose = report.frames - frames_placed;
   progress.Finish();
-  UWS_CHECK(first_pose.has_value(), job.dataset.string(), ": no frame got a pose (", provider->Name(), ")");
+  UWS_CHECK(first_pose.has_value(), job.dataset.string(), ": no frame got a pose (",
+            provider->Name(), ")");
   report.pose_details = provider->Details();
   cloud.Close();
   uncompensated.Close();
@@ -184,4 +186,3 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
 }
 
 }  // namespace uwscan
-

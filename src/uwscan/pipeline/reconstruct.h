@@ -24,7 +24,7 @@ struct ReconstructJob {
   std::string laser_name;           // default: the first laser
   laser::DetectorOptions detector;  // scan direction and colour come from the rig
   fusion::SelfReferencedOptions self_referenced;
-  int max_frames = 0;               // 0: all
+  int max_frames = 0;  // 0: all
   bool quiet = false;
   void Check() const;
 };

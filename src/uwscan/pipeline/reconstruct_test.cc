@@ -1,17 +1,16 @@
 #include "uwscan/pipeline/reconstruct.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <random>
-#include <unistd.h>
-
-#include "uwscan/util/error.h"
 
 #include "uwscan/io/tum.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/sim/simulate.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
@@ -48,7 +47,8 @@ TEST_F(ReconstructTest, TruePosesGiveMillimetreCloud) {
   EXPECT_EQ(report.frames, 24);
   EXPECT_EQ(report.frames_without_pose, 0);
   EXPECT_GT(report.points, 24 * 120);
-  for (const char* file : {"cloud.ply", "cloud_uncompensated.ply", "trajectory.tum", "report.json"}) {
+  for (const char* file :
+       {"cloud.ply", "cloud_uncompensated.ply", "trajectory.tum", "report.json"}) {
     EXPECT_TRUE(fs::exists(job.out / file)) << file;
   }
   const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
@@ -62,7 +62,8 @@ TEST_F(ReconstructTest, TruePosesGiveMillimetreCloud) {
   EXPECT_LT(floor->fit_rms_m, 0.002);
   EXPECT_LT(floor->distance_error_mean_pct, 0.3);
   // Without compensation the hovering motion shows.
-  EXPECT_GT(evaluation.uncompensated.point_error_rms_m, 2.0 * evaluation.compensated.point_error_rms_m);
+  EXPECT_GT(evaluation.uncompensated.point_error_rms_m,
+            2.0 * evaluation.compensated.point_error_rms_m);
 }
 
 // A drifting external trajectory (INS-like) degrades the cloud measurably.

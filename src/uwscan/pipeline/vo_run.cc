@@ -118,7 +118,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     cv::Mat tracking;
     if (!raw.empty()) {
       tracking = fusion::SelfReferencedPoseProvider::NormalizeIllumination(
-          fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer, detector.laser_channel),
+          fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer,
+                                                           detector.laser_channel),
           0.01 * rig_camera.width);
     }
     vo::FrameResult result = odometry.ProcessFrame(tracking, mask, entry.timestamp_s);

@@ -83,12 +83,14 @@ bool Camera::InImage(const Eigen::Vector2d& pixel, double margin) const {
 
 void Camera::Check(const std::string& context) const {
   UWS_CHECK(width > 0 && height > 0, context, ": width and height must be positive");
-  for (double value : intrinsics) UWS_CHECK(std::isfinite(value), context, ": intrinsics must be finite");
-  for (double value : distortion) UWS_CHECK(std::isfinite(value), context, ": distortion must be finite");
+  for (double value : intrinsics)
+    UWS_CHECK(std::isfinite(value), context, ": intrinsics must be finite");
+  for (double value : distortion)
+    UWS_CHECK(std::isfinite(value), context, ": distortion must be finite");
   UWS_CHECK(intrinsics[0] > 0 && intrinsics[1] > 0, context, ": fx and fy must be positive");
-  UWS_CHECK(bayer == "none" || bayer == "rggb" || bayer == "bggr" || bayer == "grbg" ||
-                bayer == "gbrg",
-            context, ": bayer must be one of none, rggb, bggr, grbg, gbrg (got '", bayer, "')");
+  UWS_CHECK(
+      bayer == "none" || bayer == "rggb" || bayer == "bggr" || bayer == "grbg" || bayer == "gbrg",
+      context, ": bayer must be one of none, rggb, bggr, grbg, gbrg (got '", bayer, "')");
   if (!IsFlatPort()) return;
   UWS_CHECK(port.normal.allFinite(), context, ": port.normal must be finite");
   const double norm = port.normal.norm();
@@ -100,8 +102,9 @@ void Camera::Check(const std::string& context) const {
             ": port.d_air must be a non-negative distance in metres");
   UWS_CHECK(std::isfinite(port.d_glass) && port.d_glass >= 0, context,
             ": port.d_glass must be a non-negative thickness in metres");
-  for (const auto& [key, value] : {std::pair{"n_air", port.n_air}, std::pair{"n_glass", port.n_glass},
-                                   std::pair{"n_water", port.n_water}}) {
+  for (const auto& [key, value] :
+       {std::pair{"n_air", port.n_air}, std::pair{"n_glass", port.n_glass},
+        std::pair{"n_water", port.n_water}}) {
     UWS_CHECK(std::isfinite(value) && value >= 1.0, context, ": port.", key,
               " must be a refraction index >= 1 (got ", value, ")");
   }

@@ -23,8 +23,8 @@ std::optional<ProjectionMethod> ProjectionMethodFromName(const std::string& name
 // Flat port geometry and media (thesis Tab. 4.4), see architecture.md.
 struct FlatPort {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, camera -> water
-  double d_air = 0.005;    // camera centre to inner glass surface (m)
-  double d_glass = 0.010;  // glass thickness (m)
+  double d_air = 0.005;                               // camera centre to inner glass surface (m)
+  double d_glass = 0.010;                             // glass thickness (m)
   double n_air = 1.0;
   double n_glass = 1.77;
   double n_water = 1.337;

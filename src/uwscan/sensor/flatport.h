@@ -49,8 +49,7 @@ struct FlatPortModel {
 
   // Normalised air ray (any length, z > 0) -> ray in water.
   template <typename T>
-  static bool RefractRay(const T* normal_in, const T* port, const T* ray, T* origin,
-                         T* direction) {
+  static bool RefractRay(const T* normal_in, const T* port, const T* ray, T* origin, T* direction) {
     using std::sqrt;
     T n[3];
     if (!Normalize(normal_in, n)) return false;
@@ -124,8 +123,11 @@ struct FlatPortModel {
       return ScalarOf(air[2]) > 1e-12 ? Status::kOk : Status::kDegenerate;
     }
     const T lateral_norm = sqrt(Dot(lateral, lateral));
-    const double values[6] = {ScalarOf(d_air),   ScalarOf(d_glass),   ScalarOf(d_water),
-                              ScalarOf(port[2]) / ScalarOf(port[3]), ScalarOf(port[2]) / ScalarOf(port[4]),
+    const double values[6] = {ScalarOf(d_air),
+                              ScalarOf(d_glass),
+                              ScalarOf(d_water),
+                              ScalarOf(port[2]) / ScalarOf(port[3]),
+                              ScalarOf(port[2]) / ScalarOf(port[4]),
                               lateral_value};
     double s = 0.0;
     if (!SolveSine(values, &s)) return Status::kTotalReflection;
@@ -148,8 +150,8 @@ struct FlatPortModel {
   // pixel or from PinholeStart) and applies `iterations` first-order steps.
   template <typename T>
   static bool ProjectTaylor(const T* intrinsics, const T* distortion, const T* normal_in,
-                            const T* port, const T* point, const T* start, int iterations,
-                            T* pixel, TaylorVariant variant = TaylorVariant::kCentred) {
+                            const T* port, const T* point, const T* start, int iterations, T* pixel,
+                            TaylorVariant variant = TaylorVariant::kCentred) {
     T n[3];
     if (!Normalize(normal_in, n)) return false;
     T x = start[0], y = start[1];
@@ -186,8 +188,7 @@ struct FlatPortModel {
     const T d_water = axial - port[0] - port[1];
     if (!(ScalarOf(d_water) > 0.0)) return false;
     // Virtual point on the axis-aligned pinhole: shrink the axial distance.
-    const T virtual_axial =
-        port[0] + port[1] * port[2] / port[3] + d_water * port[2] / port[4];
+    const T virtual_axial = port[0] + port[1] * port[2] / port[3] + d_water * port[2] / port[4];
     T virtual_point[3];
     for (int i = 0; i < 3; ++i) virtual_point[i] = point[i] + (virtual_axial - axial) * n[i];
     if (!(ScalarOf(virtual_point[2]) > 0.0)) return false;
@@ -244,9 +245,9 @@ struct FlatPortModel {
     const T g = d_air * s0 / c0 + d_glass * sin_glass / cos_glass + d_water * sin_water / cos_water;
     const T dtan_air = (Dot(e_par, v_par) * c0 - s0 * Dot(n, v_par)) / (c0 * c0);
     const T cos3_air = cos_air * cos_air * cos_air;
-    const T dg = dtan_air * (d_air + d_glass * ratio_glass * cos3_air /
-                                         (cos_glass * cos_glass * cos_glass) +
-                             d_water * ratio_water * cos3_air / (cos_water * cos_water * cos_water));
+    const T dg =
+        dtan_air * (d_air + d_glass * ratio_glass * cos3_air / (cos_glass * cos_glass * cos_glass) +
+                    d_water * ratio_water * cos3_air / (cos_water * cos_water * cos_water));
     const T delta_par = (Dot(e_par, point) - g) / dg;  // eq. 4.24, first line
     // Across the plane of refraction (eq. 4.24, second line; eq. 4.26).
     T delta_perp;
@@ -254,9 +255,9 @@ struct FlatPortModel {
       const T dperp = d_air + d_glass * ratio_glass + d_water * ratio_water;
       delta_perp = Dot(e_perp, point) / dperp * n[2];
     } else {
-      const T dperp = Dot(e_perp, v_perp) / v0_norm *
-                      (d_air / cos_air + d_glass * ratio_glass / cos_glass +
-                       d_water * ratio_water / cos_water);
+      const T dperp =
+          Dot(e_perp, v_perp) / v0_norm *
+          (d_air / cos_air + d_glass * ratio_glass / cos_glass + d_water * ratio_water / cos_water);
       delta_perp = Dot(e_perp, point) / dperp;
     }
     *x = *x + delta_par * v_par[0] + delta_perp * v_perp[0];
@@ -332,7 +333,10 @@ struct FlatPortModel {
     for (int iteration = 0; iteration < 200; ++iteration) {
       double f, df;
       evaluate(s, &f, &df);
-      if (f > 0.0) hi = s; else lo = s;
+      if (f > 0.0)
+        hi = s;
+      else
+        lo = s;
       double next = s - f / df;
       if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
       if (std::abs(next - s) <= 4e-16 * std::max(s, 1e-300) || hi - lo <= 4e-16 * hi) {

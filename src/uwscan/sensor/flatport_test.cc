@@ -3,12 +3,11 @@
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
-#include "uwscan/util/jacobian_check.h"
-
 #include <Eigen/Geometry>
 #include <random>
 
 #include "uwscan/sensor/camera.h"
+#include "uwscan/util/jacobian_check.h"
 
 namespace uwscan {
 namespace {
@@ -66,9 +65,8 @@ TEST(FlatPortModel, BackProjectionObeysSnellAtEachInterface) {
     for (int v = 0; v <= camera.height; v += 120) {
       for (int u = 0; u <= camera.width; u += 160) {
         double x, y;
-        ASSERT_TRUE(PinholeModel::ImageToNormalized(camera.intrinsics.data(),
-                                                    camera.distortion.data(), double(u), double(v),
-                                                    &x, &y));
+        ASSERT_TRUE(PinholeModel::ImageToNormalized(
+            camera.intrinsics.data(), camera.distortion.data(), double(u), double(v), &x, &y));
         const Eigen::Vector3d air = Eigen::Vector3d(x, y, 1).normalized();
         const auto ray = camera.BackProject(Eigen::Vector2d(u, v));
         ASSERT_TRUE(ray.has_value());
@@ -98,12 +96,11 @@ double WorstTaylorError(const Camera& camera, double depth, int iterations, Tayl
       const Eigen::Vector2d pixel(u - 0.5, v - 0.5);
       const Eigen::Vector3d point = PointAtDepth(*camera.BackProject(pixel), depth);
       double start[2], projected[2];
-      EXPECT_TRUE(FlatPortModel::PinholeStart(camera.port.normal.data(), port.data(), point.data(),
-                                              start));
+      EXPECT_TRUE(
+          FlatPortModel::PinholeStart(camera.port.normal.data(), port.data(), point.data(), start));
       EXPECT_TRUE(FlatPortModel::ProjectTaylor(camera.intrinsics.data(), camera.distortion.data(),
-                                               camera.port.normal.data(), port.data(),
-                                               point.data(), start, iterations, projected,
-                                               variant));
+                                               camera.port.normal.data(), port.data(), point.data(),
+                                               start, iterations, projected, variant));
       worst = std::max(worst, std::hypot(projected[0] - pixel.x(), projected[1] - pixel.y()));
     }
   }
@@ -151,7 +148,8 @@ TEST(FlatPortModel, FailuresAreReportedNotNaN) {
   double pixel[2];
   FlatPortModel::Status status;
   if (FlatPortModel::ProjectExact(camera.intrinsics.data(), camera.distortion.data(),
-                                  camera.port.normal.data(), port.data(), grazing, pixel, &status)) {
+                                  camera.port.normal.data(), port.data(), grazing, pixel,
+                                  &status)) {
     EXPECT_TRUE(std::isfinite(pixel[0]) && std::isfinite(pixel[1]));
     EXPECT_GT(pixel[0], 10.0 * camera.width);
   }
@@ -225,7 +223,8 @@ TEST(FlatPortModel, DerivativesOnThePortAxis) {
   const auto du_dx = [&](double x) {
     const Jet point[3] = {Jet(x, 0), Jet(0.0, 1), Jet(1.0, 2)};
     Jet pixel[2];
-    EXPECT_TRUE(FlatPortModel::ProjectExact(intrinsics, distortion, normal, port_jet, point, pixel));
+    EXPECT_TRUE(
+        FlatPortModel::ProjectExact(intrinsics, distortion, normal, port_jet, point, pixel));
     return pixel[0].v[0];
   };
   EXPECT_NEAR(du_dx(0.0), du_dx(1e-6), 1e-3 * du_dx(1e-6));

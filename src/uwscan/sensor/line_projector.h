@@ -32,8 +32,8 @@ struct LineProjectorModel {
   // projector units (tangent of the angle off the sheet). False for points
   // behind the projector.
   template <typename T>
-  static bool SheetResidual(const T* camera_from_laser_q, const T* camera_from_laser_t,
-                            const T& p1, const T* point_in_camera, T* residual) {
+  static bool SheetResidual(const T* camera_from_laser_q, const T* camera_from_laser_t, const T& p1,
+                            const T* point_in_camera, T* residual) {
     T p[3];
     CameraToLaser(camera_from_laser_q, camera_from_laser_t, point_in_camera, p);
     if (!(ScalarOf(p[2]) > 0.0)) return false;
@@ -48,8 +48,8 @@ struct LineProjectorModel {
   // in laser coordinates, taking the root in front of the projector that
   // continues the planar solution as p1 -> 0. False if the ray misses.
   template <typename T>
-  static bool Triangulate(const T* camera_from_laser_q, const T* camera_from_laser_t,
-                          const T& p1, const T* origin, const T* direction, T* point) {
+  static bool Triangulate(const T* camera_from_laser_q, const T* camera_from_laser_t, const T& p1,
+                          const T* origin, const T* direction, T* point) {
     using std::abs;
     using std::sqrt;
     T a[3], b[3];

@@ -3,11 +3,10 @@
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
-#include "uwscan/util/jacobian_check.h"
-
 #include <Eigen/Geometry>
 
 #include "uwscan/sensor/rig.h"
+#include "uwscan/util/jacobian_check.h"
 
 namespace uwscan {
 namespace {
@@ -113,7 +112,8 @@ TEST(LineProjector, JacobiansMatchNumericDifferentiation) {
   EXPECT_EQ(CheckJacobians(sheet, sheet_parameters, 1e-7), "");
   // The ray through the image of a sheet point at 2 m.
   const Camera camera = Camera::Flat1();
-  const Eigen::Vector3d on_sheet = laser.camera_from_laser * Eigen::Vector3d(0.2, 0.03 * 0.01 * 2.0, 2.0);
+  const Eigen::Vector3d on_sheet =
+      laser.camera_from_laser * Eigen::Vector3d(0.2, 0.03 * 0.01 * 2.0, 2.0);
   const auto ray = camera.BackProject(*camera.Project(on_sheet));
   ASSERT_TRUE(laser.Triangulate(*ray).has_value());
   ceres::AutoDiffCostFunction<TriangulationCost, 3, 4, 3, 1, 3, 3> triangulation(

@@ -3,9 +3,9 @@
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
-#include "uwscan/util/jacobian_check.h"
-
 #include <opencv2/calib3d.hpp>
+
+#include "uwscan/util/jacobian_check.h"
 
 namespace uwscan {
 namespace {
@@ -48,13 +48,13 @@ TEST(PinholeModel, UndistortMatchesOpenCvOverImage) {
     for (double v = 0; v <= 960; v += 32) pixels.emplace_back(u, v);
   }
   std::vector<cv::Point2d> expected;
-  cv::undistortPoints(pixels, expected, CameraMatrix(), DistortionCoefficients(), cv::noArray(),
-                      cv::noArray(),
-                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 1000, 1e-15));
+  cv::undistortPoints(
+      pixels, expected, CameraMatrix(), DistortionCoefficients(), cv::noArray(), cv::noArray(),
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 1000, 1e-15));
   for (size_t i = 0; i < pixels.size(); ++i) {
     double x, y;
-    ASSERT_TRUE(PinholeModel::ImageToNormalized(kIntrinsics, kDistortion, pixels[i].x, pixels[i].y,
-                                                &x, &y))
+    ASSERT_TRUE(
+        PinholeModel::ImageToNormalized(kIntrinsics, kDistortion, pixels[i].x, pixels[i].y, &x, &y))
         << pixels[i];
     // Angle between the two rays.
     const Eigen::Vector3d ours = Eigen::Vector3d(x, y, 1).normalized();

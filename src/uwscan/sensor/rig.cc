@@ -37,8 +37,9 @@ void LineProjector::Check(const std::string& context) const {
   UWS_CHECK(std::isfinite(p1), context, ": p1 must be finite");
   UWS_CHECK(std::isfinite(wavelength_nm) && wavelength_nm >= 300 && wavelength_nm <= 1100, context,
             ": wavelength_nm must be between 300 and 1100 (got ", wavelength_nm, ")");
-  UWS_CHECK(camera_from_laser.translation.allFinite() && camera_from_laser.rotation.coeffs().allFinite(),
-            context, ": camera_from_laser must be finite");
+  UWS_CHECK(
+      camera_from_laser.translation.allFinite() && camera_from_laser.rotation.coeffs().allFinite(),
+      context, ": camera_from_laser must be finite");
 }
 
 const Camera& Rig::CameraByName(const std::string& name) const {
@@ -76,7 +77,8 @@ void Rig::Check(const std::string& context) const {
   }
   for (size_t i = 0; i < lasers.size(); ++i) {
     lasers[i].Check(context + ": lasers[" + std::to_string(i) + "]");
-    UWS_CHECK(names.insert(lasers[i].name).second, context, ": duplicate name '", lasers[i].name, "'");
+    UWS_CHECK(names.insert(lasers[i].name).second, context, ": duplicate name '", lasers[i].name,
+              "'");
   }
 }
 

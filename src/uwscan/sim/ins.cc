@@ -29,14 +29,14 @@ std::vector<StampedPose> SimulateIns(const Trajectory& truth, double start_s, do
             Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
     heading += options.heading_random_walk_rad * std::sqrt(dt) * normal(rng);
     const Rigid3d pose = truth.WorldFromCamera(t - options.time_offset_s);
-    const Eigen::Vector3d attitude_error = options.attitude_noise_rad *
-                                           Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+    const Eigen::Vector3d attitude_error =
+        options.attitude_noise_rad * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
     // Heading drifts about the world vertical, noise about the body axes.
     const Eigen::Quaterniond rotation =
         Eigen::Quaterniond(Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ())) * pose.rotation *
-        Eigen::Quaterniond(Eigen::AngleAxisd(attitude_error.norm(),
-                                             attitude_error.norm() > 0 ? attitude_error.normalized()
-                                                                       : Eigen::Vector3d::UnitX()));
+        Eigen::Quaterniond(Eigen::AngleAxisd(
+            attitude_error.norm(),
+            attitude_error.norm() > 0 ? attitude_error.normalized() : Eigen::Vector3d::UnitX()));
     const Eigen::Vector3d position =
         pose.translation + walk +
         options.position_noise_m * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));

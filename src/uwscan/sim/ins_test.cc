@@ -24,7 +24,8 @@ TEST(Ins, ErrorsFollowTheModel) {
     const Rigid3d true_pose = truth.WorldFromCamera(pose.timestamp_s);
     position += (pose.world_from_camera.translation - true_pose.translation).squaredNorm();
     attitude += std::pow(
-        Eigen::AngleAxisd(pose.world_from_camera.rotation * true_pose.rotation.conjugate()).angle(), 2);
+        Eigen::AngleAxisd(pose.world_from_camera.rotation * true_pose.rotation.conjugate()).angle(),
+        2);
   }
   // White noise only: RMS per axis as configured (3 axes).
   EXPECT_NEAR(std::sqrt(position / ins.size() / 3.0), options.position_noise_m, 0.15e-3);
@@ -33,12 +34,15 @@ TEST(Ins, ErrorsFollowTheModel) {
   // The random walk makes the error grow with time.
   InsOptions drifting;
   const auto drift = SimulateIns(truth, 0.0, 100.0, drifting);
-  const double early = (drift[50].world_from_camera.translation -
-                        truth.WorldFromCamera(drift[50].timestamp_s - drifting.time_offset_s).translation).norm();
+  const double early =
+      (drift[50].world_from_camera.translation -
+       truth.WorldFromCamera(drift[50].timestamp_s - drifting.time_offset_s).translation)
+          .norm();
   double late = 0.0;
   for (size_t i = drift.size() - 50; i < drift.size(); ++i) {
     late += (drift[i].world_from_camera.translation -
-             truth.WorldFromCamera(drift[i].timestamp_s - drifting.time_offset_s).translation).norm();
+             truth.WorldFromCamera(drift[i].timestamp_s - drifting.time_offset_s).translation)
+                .norm();
   }
   EXPECT_GT(late / 50.0, early);
 }

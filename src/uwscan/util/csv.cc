@@ -38,7 +38,8 @@ CsvTable ReadNumericCsv(const std::filesystem::path& path) {
   UWS_CHECK(in.good(), path.string(), ": cannot open for reading");
   CsvTable table;
   std::string line;
-  UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(), ": empty file (expected a header line)");
+  UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(),
+            ": empty file (expected a header line)");
   table.header = SplitLine(line);
   int line_number = 1;
   while (std::getline(in, line)) {
@@ -51,9 +52,10 @@ CsvTable ReadNumericCsv(const std::filesystem::path& path) {
     for (size_t i = 0; i < fields.size(); ++i) {
       const std::string& f = fields[i];
       const auto result = std::from_chars(f.data(), f.data() + f.size(), row[i]);
-      UWS_CHECK(result.ec == std::errc() && result.ptr == f.data() + f.size() && std::isfinite(row[i]),
-                path.string(), ":", line_number, ": column '", table.header[i],
-                "' is not a finite number: '", f, "'");
+      UWS_CHECK(
+          result.ec == std::errc() && result.ptr == f.data() + f.size() && std::isfinite(row[i]),
+          path.string(), ":", line_number, ": column '", table.header[i],
+          "' is not a finite number: '", f, "'");
     }
     table.rows.push_back(std::move(row));
   }

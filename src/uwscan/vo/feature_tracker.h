@@ -40,7 +40,7 @@ struct FeatureTrackerOptions {
 struct FeatureTrack {
   uint64_t id = 0;
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
-  int age = 0;  // frames tracked
+  int age = 0;            // frames tracked
   bool anchored = false;  // seen in the anchor image
   Eigen::Vector2d anchor_pixel = Eigen::Vector2d::Zero();
 };

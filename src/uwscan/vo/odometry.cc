@@ -1,10 +1,10 @@
 #include "uwscan/vo/odometry.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <limits>
 #include <opencv2/imgproc.hpp>

@@ -11,9 +11,9 @@
 // BundleAdjustmentOptions, and read access to the map (keyframes, points).
 #pragma once
 
+#include <functional>
 #include <future>
 #include <opencv2/core.hpp>
-#include <functional>
 #include <optional>
 #include <string>
 #include <unordered_map>
