@@ -21,6 +21,7 @@ struct CameraArgs {
   std::string detector = "sb", residual = "exact";
   double water_index = 1.333;
   bool estimate_water_index = false;
+  bool air_without_port = false;
   double max_view_rms = 1.0;
   bool quiet = false;
 };
@@ -63,6 +64,7 @@ void RunCalibrateCamera(const CameraArgs& args) {
   options.water = args.water;
   options.n_water = args.water_index;
   options.estimate_n_water = args.estimate_water_index;
+  options.air_without_port = args.air_without_port;
   options.detection.detector = ParseDetector(args.detector);
   options.calibration.outliers.max_view_rms_px = args.max_view_rms;
   options.camera_name = args.camera;
@@ -166,6 +168,9 @@ void RegisterCalibrateCommands(CLI::App& app) {
       ->capture_default_str();
   camera->add_flag("--estimate-water-index", camera_args->estimate_water_index,
                    "estimate the water index from the water images (Tab. 4.11)");
+  camera->add_flag("--air-without-port", camera_args->air_without_port,
+                   "in-air images taken without the port (§6.1 aquarium): the result is the "
+                   "in-water refinement instead of the joint air + water fit");
   camera
       ->add_option("--residual", camera_args->residual,
                    "flat-port residual in water: exact | taylor (centred at the corner)")

@@ -100,9 +100,13 @@ CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options) 
           RefineFlatPortInWater(water.set, in_air.camera, water_options);
       out.log.push_back(Summary(sequential));
       report["stages"].push_back(CameraResultToJson(sequential));
-      result = CalibrateFlatPortJoint(air.set, in_air, water.set, water_options);
-      out.log.push_back(Summary(result));
-      report["stages"].push_back(CameraResultToJson(result));
+      if (options.air_without_port) {
+        result = sequential;
+      } else {
+        result = CalibrateFlatPortJoint(air.set, in_air, water.set, water_options);
+        out.log.push_back(Summary(result));
+        report["stages"].push_back(CameraResultToJson(result));
+      }
       // The usual shortcut, for comparison: a pinhole calibrated under water.
       const CameraCalibrationResult pin_water =
           CalibratePinhole(water.set, camera, options.calibration);

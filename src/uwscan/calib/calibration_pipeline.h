@@ -25,6 +25,11 @@ struct CameraPipelineOptions {
   double n_glass = 1.52, d_glass = 0.006;  // flat port: known glass
   double n_water = 1.333;
   bool estimate_n_water = false;
+  // The in-air images were taken without the port (thesis §6.1: camera in
+  // front of an aquarium, calibrated in air without its window). The joint
+  // air + water fit assumes the same port in both sets, so the result is
+  // then the in-water refinement of the in-air lens.
+  bool air_without_port = false;
   FlatPortResidualType residual = FlatPortResidualType::kExact;
   DetectionOptions detection;
   CameraCalibrationOptions calibration;
@@ -40,8 +45,9 @@ struct CameraPipelineResult {
 };
 
 // Pinhole: detection + stage 1. Flat port: + stage 2; with water images the
-// sequential refinement (Tab. 4.11, reported) and the joint air + water
-// bundle (the result), plus a pinhole calibrated under water for comparison.
+// sequential refinement (Tab. 4.11) and the joint air + water bundle (the
+// result, unless air_without_port), plus a pinhole calibrated under water
+// for comparison.
 CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options);
 
 struct LaserPipelineOptions {
