@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "uwscan/io/image.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/util/error.h"
 
@@ -171,16 +172,7 @@ FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const 
   for (const fs::path& file : files) {
     cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
     UWS_CHECK(!image.empty(), file.string(), ": cannot read the image");
-    if (image.channels() == 1 && bayer != "none") {
-      // OpenCV names Bayer codes by the second row's pattern start.
-      const int code = bayer == "rggb"   ? cv::COLOR_BayerBG2BGR
-                       : bayer == "bggr" ? cv::COLOR_BayerRG2BGR
-                       : bayer == "grbg" ? cv::COLOR_BayerGB2BGR
-                                         : cv::COLOR_BayerGR2BGR;
-      cv::Mat bgr;
-      cv::cvtColor(image, bgr, code);
-      image = bgr;
-    }
+    image = DemosaicToBgr(image, bayer);
     if (result.set.width == 0) {
       result.set.width = image.cols;
       result.set.height = image.rows;

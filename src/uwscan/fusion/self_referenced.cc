@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "uwscan/io/image.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::fusion {
@@ -23,14 +24,7 @@ cv::Mat SelfReferencedPoseProvider::PassiveImage(const cv::Mat& image, const std
   if (image.channels() == 3) {
     cv::extractChannel(image, channel, 2 - passive_rgb);
   } else if (bayer != "none") {
-    // OpenCV names Bayer codes by the second row's pattern start.
-    const int code = bayer == "rggb"   ? cv::COLOR_BayerBG2BGR
-                     : bayer == "bggr" ? cv::COLOR_BayerRG2BGR
-                     : bayer == "grbg" ? cv::COLOR_BayerGB2BGR
-                                       : cv::COLOR_BayerGR2BGR;
-    cv::Mat bgr;
-    cv::cvtColor(image, bgr, code);
-    cv::extractChannel(bgr, channel, 2 - passive_rgb);
+    cv::extractChannel(DemosaicToBgr(image, bayer), channel, 2 - passive_rgb);
   } else {
     channel = image;
   }

@@ -1,6 +1,7 @@
 #include "uwscan/io/image.h"
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "uwscan/util/atomic_file.h"
@@ -27,6 +28,18 @@ cv::Mat ReadImage(const std::filesystem::path& path) {
   cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
   UWS_CHECK(!image.empty(), path.string(), ": cannot read image");
   return image;
+}
+
+cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer) {
+  if (raw.empty() || raw.channels() != 1 || bayer == "none") return raw;
+  // OpenCV names Bayer codes by the second row's pattern start: RGGB is BayerBG.
+  const int code = bayer == "rggb"   ? cv::COLOR_BayerBG2BGR
+                   : bayer == "bggr" ? cv::COLOR_BayerRG2BGR
+                   : bayer == "grbg" ? cv::COLOR_BayerGB2BGR
+                                     : cv::COLOR_BayerGR2BGR;
+  cv::Mat bgr;
+  cv::cvtColor(raw, bgr, code);
+  return bgr;
 }
 
 }  // namespace uwscan

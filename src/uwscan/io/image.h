@@ -4,12 +4,17 @@
 
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace uwscan {
 
 // Writes CV_8U/CV_16U with 1 or 3 channels (B G R) as PNG via a temporary
 // name; throws uwscan::Error naming the file.
 void WritePng(const std::filesystem::path& path, const cv::Mat& image, int compression = 3);
+// Demosaics a raw Bayer frame (`bayer` as in rig.yaml: rggb | bggr | grbg |
+// gbrg) to B G R; images with 3 channels or bayer "none" come back as they are.
+cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer);
+
 // Reads any image unchanged (bit depth and channels kept).
 cv::Mat ReadImage(const std::filesystem::path& path);
 

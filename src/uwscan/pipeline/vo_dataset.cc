@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "uwscan/io/image.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
@@ -95,14 +96,8 @@ cv::Mat ReadFrameImage(const VoDataset& dataset, const VoFrameEntry& frame) {
 cv::Mat TrackingImage(const cv::Mat& raw, const std::string& bayer) {
   if (raw.empty()) return raw;
   if (raw.channels() == 1 && bayer != "none") {
-    // OpenCV names Bayer patterns by the second row: RGGB is BayerBG.
-    int code = cv::COLOR_BayerBG2BGR;
-    if (bayer == "bggr") code = cv::COLOR_BayerRG2BGR;
-    if (bayer == "grbg") code = cv::COLOR_BayerGB2BGR;
-    if (bayer == "gbrg") code = cv::COLOR_BayerGR2BGR;
-    cv::Mat bgr, green;
-    cv::cvtColor(raw, bgr, code);
-    cv::extractChannel(bgr, green, 1);
+    cv::Mat green;
+    cv::extractChannel(DemosaicToBgr(raw, bayer), green, 1);
     return green;
   }
   if (raw.channels() == 3 || raw.channels() == 4) {
