@@ -141,20 +141,23 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   return updates;
 }
 
+void SelfReferencedPoseProvider::Restart() {
+  // Start again from the surface at the next frames, at the last pose.
+  ++lost_;
+  running_ = false;
+  odometry_.reset();
+  surface_.reset();
+  held_.clear();
+}
+
 std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
   const vo::FrameResult result =
       odometry_->ProcessFrame(frame.input.image, frame.mask, frame.input.timestamp_s);
   if (result.keyframe) ++keyframes_;
   if (!result.world_from_camera) {
-    ++lost_;
-    // Start again from the surface at the next frames, at the last pose.
-    running_ = false;
-    odometry_.reset();
-    surface_.reset();
-    held_.clear();
+    Restart();
     return std::nullopt;
   }
-  ++tracked_;
   const Rigid3d pose = *result.world_from_camera;
   if (last_pose_) {
     const double dt = std::max(frame.input.timestamp_s - last_time_s_, 1e-3);
@@ -164,15 +167,11 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
     if (rotation_deg > options_.max_rotation_rate_deg_s * dt ||
         distance > options_.max_speed_m_s * dt) {
       ++implausible_;
-      --tracked_;
-      ++lost_;
-      running_ = false;
-      odometry_.reset();
-      surface_.reset();
-      held_.clear();
+      Restart();
       return std::nullopt;
     }
   }
+  ++tracked_;
   last_pose_ = pose;
   last_time_s_ = frame.input.timestamp_s;
   surface_->AddProfile(pose, frame.profile);

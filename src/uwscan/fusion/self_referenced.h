@@ -62,6 +62,8 @@ class SelfReferencedPoseProvider : public PoseProvider {
   };
   std::vector<PoseUpdate> TryInitialize();
   std::optional<PoseUpdate> Track(const Held& frame);
+  // Tracking lost or not believed: drop the map and hold frames again.
+  void Restart();
   // Raw poses through the smoother; a gap flushes it.
   void Emit(const std::optional<PoseUpdate>& raw, double timestamp_s, std::vector<PoseUpdate>* out);
   std::unique_ptr<PoseSmoother> smoother_;

@@ -1,7 +1,5 @@
 #include "uwscan/io/ply.h"
 
-#include <unistd.h>
-
 #include <cstring>
 #include <map>
 #include <sstream>
@@ -29,51 +27,35 @@ std::string Header(int64_t count) {
 }
 
 template <typename T>
-void Put(std::ofstream& out, T value) {
+void Put(std::ostream& out, T value) {
   out.write(reinterpret_cast<const char*>(&value), sizeof(T));
 }
 
 }  // namespace
 
-PlyStreamWriter::PlyStreamWriter(std::filesystem::path path) : path_(std::move(path)) {
-  temp_path_ = path_;
-  temp_path_ += ".tmp-" + std::to_string(::getpid());
-  out_.open(temp_path_, std::ios::binary);
-  UWS_CHECK(out_.good(), path_.string(), ": cannot open for writing");
-  out_ << Header(0);
-}
-
-PlyStreamWriter::~PlyStreamWriter() {
-  if (!closed_) {
-    out_.close();
-    std::error_code ignored;
-    std::filesystem::remove(temp_path_, ignored);
-  }
+PlyStreamWriter::PlyStreamWriter(std::filesystem::path path)
+    : path_(path), file_(std::move(path), /*binary=*/true) {
+  file_.stream() << Header(0);
 }
 
 void PlyStreamWriter::Add(const CloudPoint& p) {
   UWS_CHECK(p.position.allFinite(), path_.string(), ": refusing a non-finite point");
-  Put(out_, p.position.x());
-  Put(out_, p.position.y());
-  Put(out_, p.position.z());
-  Put(out_, p.red);
-  Put(out_, p.green);
-  Put(out_, p.blue);
-  Put(out_, p.intensity);
-  Put(out_, p.frame);
+  Put(file_.stream(), p.position.x());
+  Put(file_.stream(), p.position.y());
+  Put(file_.stream(), p.position.z());
+  Put(file_.stream(), p.red);
+  Put(file_.stream(), p.green);
+  Put(file_.stream(), p.blue);
+  Put(file_.stream(), p.intensity);
+  Put(file_.stream(), p.frame);
   ++count_;
 }
 
 void PlyStreamWriter::Close() {
-  out_.seekp(0);
-  out_ << Header(count_);
-  out_.flush();
-  UWS_CHECK(out_.good(), path_.string(), ": write failed");
-  out_.close();
-  std::error_code error;
-  std::filesystem::rename(temp_path_, path_, error);
-  UWS_CHECK(!error, path_.string(), ": cannot rename into place: ", error.message());
-  closed_ = true;
+  std::ostream& out = file_.stream();
+  out.seekp(0);
+  out << Header(count_);  // same length: the count has a fixed width
+  file_.Commit();
 }
 
 std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {

@@ -6,9 +6,9 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <memory>
 #include <vector>
+
+#include "uwscan/util/atomic_file.h"
 
 namespace uwscan {
 
@@ -20,12 +20,11 @@ struct CloudPoint {
 };
 
 // Streams points to disk as they come (bounded memory). The file appears
-// under its final name only after Close(); on destruction without Close()
-// the temporary is removed.
+// under its final name only after Close(); without Close() the temporary is
+// removed (AtomicFile).
 class PlyStreamWriter {
  public:
   explicit PlyStreamWriter(std::filesystem::path path);
-  ~PlyStreamWriter();
   PlyStreamWriter(const PlyStreamWriter&) = delete;
   PlyStreamWriter& operator=(const PlyStreamWriter&) = delete;
 
@@ -34,10 +33,9 @@ class PlyStreamWriter {
   int64_t count() const { return count_; }
 
  private:
-  std::filesystem::path path_, temp_path_;
-  std::ofstream out_;
+  std::filesystem::path path_;
+  AtomicFile file_;  // the header's vertex count is patched in place on Close()
   int64_t count_ = 0;
-  bool closed_ = false;
 };
 
 // Reads a PLY written by PlyStreamWriter (or any binary little-endian PLY
