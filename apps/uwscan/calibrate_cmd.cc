@@ -16,6 +16,27 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Board view checks shared by both subcommands (dim or soft images need
+// looser ones; every rejection is reported with its reason).
+struct BoardCheckArgs {
+  double max_edge_width_px = 6.0;
+  double min_contrast = 15.0;
+  void AddTo(CLI::App* app) {
+    app->add_option("--max-edge-width", max_edge_width_px,
+                    "reject views whose board edges rise over more pixels (10-90 %)")
+        ->capture_default_str();
+    app->add_option("--min-contrast", min_contrast,
+                    "reject views with less contrast between black and white squares (grey levels)")
+        ->capture_default_str();
+  }
+  void ApplyTo(DetectionOptions* detection) const {
+    if (!(max_edge_width_px > 0.0)) throw UsageError("--max-edge-width must be positive");
+    if (!(min_contrast >= 0.0)) throw UsageError("--min-contrast must be >= 0");
+    detection->max_edge_width_px = max_edge_width_px;
+    detection->min_contrast = min_contrast;
+  }
+};
+
 struct CameraArgs {
   std::string images, board, model = "pinhole", water, glass, out, report, camera = "cam0", rig;
   std::string detector = "sb", residual = "exact";
@@ -23,12 +44,15 @@ struct CameraArgs {
   bool estimate_water_index = false;
   bool air_without_port = false;
   double max_view_rms = 1.0;
+  BoardCheckArgs board_checks;
   bool quiet = false;
 };
 
 struct LaserArgs {
   std::string rig, images, board, out, report, camera, laser = "laser0", detector = "sb";
   std::string servo_angles, servo_axis;
+  double target_margin_m = 0.0;
+  BoardCheckArgs board_checks;
   bool quiet = false;
 };
 
@@ -66,6 +90,7 @@ void RunCalibrateCamera(const CameraArgs& args) {
   options.estimate_n_water = args.estimate_water_index;
   options.air_without_port = args.air_without_port;
   options.detection.detector = ParseDetector(args.detector);
+  args.board_checks.ApplyTo(&options.detection);
   options.calibration.outliers.max_view_rms_px = args.max_view_rms;
   options.camera_name = args.camera;
   try {
@@ -104,6 +129,10 @@ void RunCalibrateLaser(const LaserArgs& args) {
   options.board = BoardSpec::Parse(args.board);
   options.images = args.images;
   options.detection.detector = ParseDetector(args.detector);
+  args.board_checks.ApplyTo(&options.detection);
+  if (!(args.target_margin_m >= 0.0 && args.target_margin_m < 10.0))
+    throw UsageError("--target-margin must be in [0, 10) m");
+  options.target_margin_m = args.target_margin_m;
   Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
   int laser_index = -1;
@@ -112,6 +141,7 @@ void RunCalibrateLaser(const LaserArgs& args) {
   }
   if (laser_index >= 0) {
     options.calibration.nominal_camera_from_laser = rig.lasers[laser_index].camera_from_laser;
+    options.laser_channel = laser::ChannelForWavelength(rig.lasers[laser_index].wavelength_nm);
   }
   if (args.servo_angles.empty() != args.servo_axis.empty()) {
     throw UsageError("--servo-angles and --servo-axis go together");
@@ -169,8 +199,8 @@ void RegisterCalibrateCommands(CLI::App& app) {
   camera->add_flag("--estimate-water-index", camera_args->estimate_water_index,
                    "estimate the water index from the water images (Tab. 4.11)");
   camera->add_flag("--air-without-port", camera_args->air_without_port,
-                   "in-air images taken without the port (§6.1 aquarium): the result is the "
-                   "in-water refinement instead of the joint air + water fit");
+                   "in-air images taken without the port (§6.1 aquarium): the joint fit treats "
+                   "them as straight-ray views sharing the lens with the water views");
   camera
       ->add_option("--residual", camera_args->residual,
                    "flat-port residual in water: exact | taylor (centred at the corner)")
@@ -183,6 +213,7 @@ void RegisterCalibrateCommands(CLI::App& app) {
       ->add_option("--max-view-rms", camera_args->max_view_rms,
                    "drop views above this RMS (px) or 3x the median")
       ->capture_default_str();
+  camera_args->board_checks.AddTo(camera);
   camera->add_option("--camera", camera_args->camera, "camera name in the rig")
       ->capture_default_str();
   camera->add_option("--rig", camera_args->rig,
@@ -206,6 +237,12 @@ void RegisterCalibrateCommands(CLI::App& app) {
                    "nominal projector centre)")
       ->capture_default_str();
   laser->add_option("--detector", laser_args->detector, "sb | sb-subpix | classic")
+      ->capture_default_str();
+  laser_args->board_checks.AddTo(laser);
+  laser
+      ->add_option("--target-margin", laser_args->target_margin_m,
+                   "plain planar target around the board's outer squares (m); laser points "
+                   "there are used too")
       ->capture_default_str();
   laser->add_option("--servo-angles", laser_args->servo_angles,
                     "servo variant (§6.5): CSV 'file,angle_deg' per image of one sweep");

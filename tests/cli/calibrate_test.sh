@@ -69,6 +69,27 @@ if [[ -f $DATA/left01.jpg ]]; then
   expect 2 "glass" -- "$UWSCAN" calibrate camera --images "$TMP/left" --board 9x6:0.025 \
     --model flatport --out "$TMP/bad.yaml"
 fi
+# Laser calibration on the simulator's laser-tilt scenario (§6.2), against the
+# rig the simulator wrote: a laser behind the window at 0 and 6 deg tilt,
+# the camera rig given without the laser (no nominal pose to lean on).
+for tilt in 0 6; do
+  "$UWSCAN" simulate laser-tilt --out "$TMP/lt$tilt" --frames 1 --width 640 --height 480 \
+    --laser-tilt-deg $tilt --seed 5 --quiet || fail "simulate laser-tilt $tilt"
+  sed '/^lasers:/,$d' "$TMP/lt$tilt/rig.yaml" >"$TMP/lt$tilt/camera.yaml"
+  "$UWSCAN" calibrate laser --rig "$TMP/lt$tilt/camera.yaml" --images "$TMP/lt$tilt/calib/laser/frames" \
+    --board 11x7:0.025 --target-margin 0.05 --max-edge-width 8 --min-contrast 10 \
+    --out "$TMP/lt$tilt/laser.yaml" >"$TMP/stdout" 2>"$TMP/stderr" || fail "laser-tilt $tilt: $(cat "$TMP/stderr")"
+  truth_p1=$(awk '/p1:/ {print $2}' "$TMP/lt$tilt/rig.yaml")
+  awk -v tilt=$tilt -v truth_p1="$truth_p1" '/^laser laser0/ {
+      for (i = 1; i <= NF; ++i) { if ($i == "baseline") b = $(i + 1); if ($i == "x") a = $(i + 1); if ($i == "p1") p = $(i + 1) }
+      bad = 0
+      if (tilt == 0 && (b < 99.5 || b > 100.5 || a > 0.05 || p < -0.003 || p > 0.003)) bad = 1
+      d = (p < 0 ? -p : p) - (truth_p1 < 0 ? -truth_p1 : truth_p1)
+      if (tilt > 0 && (d < -0.15 * (truth_p1 < 0 ? -truth_p1 : truth_p1) || d > 0.15 * (truth_p1 < 0 ? -truth_p1 : truth_p1))) bad = 1
+      if (bad) { print "laser-tilt " tilt ": baseline " b " mm, angle " a " deg, p1 " p " (truth " truth_p1 ")"; exit 1 }
+    }' "$TMP/stdout" || fail "$(awk '/^laser laser0/' "$TMP/stdout") truth p1 $truth_p1"
+done
+
 # No such folder; bad board text.
 expect 1 "not a directory" -- "$UWSCAN" calibrate camera --images "$TMP/none" --board 9x6:0.025 \
   --out "$TMP/bad.yaml"

@@ -9,6 +9,7 @@
 #include "uwscan/calib/board_pose.h"
 #include "uwscan/calib/calibration_report.h"
 #include "uwscan/calib/laser_points.h"
+#include "uwscan/io/image.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -74,14 +75,26 @@ CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options) 
   const std::vector<double> ranges = {0.3, 0.5, 1.0, 2.0, 3.0, 5.0};
 
   if (options.model == CameraModelId::kFlatPort) {
+    const CameraCalibrationResult pinhole = result;
     FlatPortAirOptions air_options;
     air_options.common = options.calibration;
     air_options.n_glass = options.n_glass;
     air_options.d_glass = options.d_glass;
-    const CameraCalibrationResult in_air = CalibrateFlatPortInAir(air.set, result, air_options);
-    out.log.push_back(Summary(in_air));
-    report["stages"].push_back(CameraResultToJson(in_air));
-    result = in_air;
+    if (options.air_without_port) {
+      // The air images show no port: the flat-port camera starts from the
+      // pinhole one with the given glass, d_air and normal come from water.
+      result.camera.model = CameraModelId::kFlatPort;
+      result.camera.port.normal = Eigen::Vector3d::UnitZ();
+      result.camera.port.d_air = air_options.d_air;
+      result.camera.port.d_glass = air_options.d_glass;
+      result.camera.port.n_air = air_options.n_air;
+      result.camera.port.n_glass = air_options.n_glass;
+    } else {
+      result = CalibrateFlatPortInAir(air.set, pinhole, air_options);
+      out.log.push_back(Summary(result));
+      report["stages"].push_back(CameraResultToJson(result));
+    }
+    const CameraCalibrationResult in_air = result;
     result.camera.port.n_water = options.n_water;  // the medium it will be used in
     if (!options.water.empty()) {
       const FolderDetection water =
@@ -100,13 +113,12 @@ CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options) 
           RefineFlatPortInWater(water.set, in_air.camera, water_options);
       out.log.push_back(Summary(sequential));
       report["stages"].push_back(CameraResultToJson(sequential));
-      if (options.air_without_port) {
-        result = sequential;
-      } else {
-        result = CalibrateFlatPortJoint(air.set, in_air, water.set, water_options);
-        out.log.push_back(Summary(result));
-        report["stages"].push_back(CameraResultToJson(result));
-      }
+      result = options.air_without_port
+                   ? CalibrateFlatPortJointPortlessAir(air.set, pinhole, water.set,
+                                                       sequential.camera, water_options)
+                   : CalibrateFlatPortJoint(air.set, in_air, water.set, water_options);
+      out.log.push_back(Summary(result));
+      report["stages"].push_back(CameraResultToJson(result));
       // The usual shortcut, for comparison: a pinhole calibrated under water.
       const CameraCalibrationResult pin_water =
           CalibratePinhole(water.set, camera, options.calibration);
@@ -125,8 +137,10 @@ CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options) 
 }
 
 LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelineOptions& options) {
+  DetectionOptions board_detection = options.detection;
+  board_detection.ignore_channel = options.laser_channel;  // the board without the line
   const FolderDetection detection =
-      DetectBoardsInFolder(options.images, options.board, options.detection);
+      DetectBoardsInFolder(options.images, options.board, board_detection);
   UWS_CHECK(detection.set.width == camera.width && detection.set.height == camera.height,
             options.images.string(), ": images are ", detection.set.width, "x",
             detection.set.height, " but camera '", camera.name, "' is ", camera.width, "x",
@@ -139,11 +153,26 @@ LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelin
       view_list.push_back({{"image", view.name}, {"used", false}, {"reason", "no board pose"}});
       continue;
     }
-    const cv::Mat image = cv::imread((options.images / view.name).string());
+    if (pose->rms_px > options.max_board_rms_px) {
+      char reason[128];
+      std::snprintf(reason, sizeof(reason), "board pose RMS %.2f px > %.2f px (corners wrong?)",
+                    pose->rms_px, options.max_board_rms_px);
+      view_list.push_back({{"image", view.name},
+                           {"used", false},
+                           {"reason", reason},
+                           {"board_rms_px", pose->rms_px}});
+      continue;
+    }
+    const std::filesystem::path file = options.images / view.name;
+    const cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+    UWS_CHECK(!image.empty(), file.string(), ": cannot read the image");
     LaserView laser_view;
     laser_view.name = view.name;
     laser_view.camera_from_board = pose->camera_from_board;
-    laser_view.laser_pixels = ExtractLaserPixels(image, options.board, view.corners);
+    laser_view.laser_pixels = DetectLaserOnTarget(
+        DemosaicToBgr(image, camera.bayer),
+        TargetOutline(camera, options.board, pose->camera_from_board, options.target_margin_m),
+        options.laser_channel);
     if (options.servo) {
       const auto angle = options.servo_angles_rad.find(view.name);
       UWS_CHECK(angle != options.servo_angles_rad.end(), options.images.string(), ": image '",
@@ -158,8 +187,27 @@ LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelin
     views.push_back(laser_view);
   }
   LaserPipelineResult out;
-  out.result =
-      CalibrateLaser(camera, views, options.calibration, options.servo ? &*options.servo : nullptr);
+  try {
+    out.result = CalibrateLaser(camera, views, options.calibration,
+                                options.servo ? &*options.servo : nullptr);
+  } catch (const Error& e) {
+    // Say what each image contributed: that is what the user has to fix.
+    std::string text = e.what();
+    for (const nlohmann::json& v : view_list) {
+      text += "\n  " + v["image"].get<std::string>() + ": ";
+      if (!v["used"].get<bool>()) {
+        text += v["reason"].get<std::string>();
+        continue;
+      }
+      char line[96];
+      std::snprintf(line, sizeof(line), "%d laser points, board at %.3f m",
+                    v["laser_pixels"].get<int>(), v["range_m"].get<double>());
+      text += line;
+    }
+    for (const BoardDetection& b : detection.images)
+      if (!b.found) text += "\n  " + b.name + ": " + b.reason;
+    throw Error(text);
+  }
   out.report = {{"laser", LaserResultToJson(out.result)},
                 {"views", view_list},
                 {"detections", DetectionsToJson(detection.images)}};

@@ -13,6 +13,7 @@
 #include "uwscan/calib/camera_calibration.h"
 #include "uwscan/calib/checkerboard.h"
 #include "uwscan/calib/laser_calibration.h"
+#include "uwscan/laser/detector.h"
 #include "uwscan/sensor/rig.h"
 
 namespace uwscan {
@@ -55,6 +56,13 @@ struct LaserPipelineOptions {
   BoardSpec board;
   DetectionOptions detection;
   LaserCalibrationOptions calibration;
+  // Plain planar target around the checkerboard's outer squares (m): laser
+  // points there count too.
+  double target_margin_m = 0.0;
+  // Views whose board corners the calibrated camera cannot fit better than
+  // this are left out (a wrong corner would tilt the board plane).
+  double max_board_rms_px = 1.0;
+  int laser_channel = laser::kGreen;  // from the laser's wavelength
   // Servo variant (§6.5): the axis and each image's servo angle (by file
   // name); every image with a board must have an angle.
   std::optional<ServoAxis> servo;

@@ -94,10 +94,20 @@ CameraBundleResult SolveCameraBundle(const CornerSet& set, const std::vector<boo
 
   std::array<double, 4> air_media = {blocks.media[0], blocks.media[1], blocks.media[2],
                                      blocks.media[1]};
-  const bool any_air = std::find(options.view_in_air.begin(), options.view_in_air.end(), true) !=
-                       options.view_in_air.end();
+  // Without a port: air on every side of a glass of air, so rays go straight.
+  std::array<double, 4> portless_media = {blocks.media[0], blocks.media[1], blocks.media[1],
+                                          blocks.media[1]};
   UWS_CHECK(options.view_in_air.empty() || options.view_in_air.size() == set.views.size(),
             "SolveCameraBundle: view_in_air needs one flag per view");
+  UWS_CHECK(options.view_without_port.empty() || options.view_without_port.size() == set.views.size(),
+            "SolveCameraBundle: view_without_port needs one flag per view");
+  auto in_air = [&](size_t v) { return !options.view_in_air.empty() && options.view_in_air[v]; };
+  auto portless = [&](size_t v) {
+    return !options.view_without_port.empty() && options.view_without_port[v];
+  };
+  auto media_of = [&](size_t v) {
+    return portless(v) ? portless_media.data() : in_air(v) ? air_media.data() : blocks.media.data();
+  };
 
   ceres::Problem problem;
   int used_views = 0, residual_count = 0;
@@ -111,10 +121,7 @@ CameraBundleResult SolveCameraBundle(const CornerSet& set, const std::vector<boo
             FlatPortReprojectionCost::Create(observed, points[i], options.residual,
                                              options.taylor_iterations),
             nullptr, blocks.intrinsics.data(), blocks.distortion.data(), blocks.normal.data(),
-            blocks.d_air.data(),
-            !options.view_in_air.empty() && options.view_in_air[v] ? air_media.data()
-                                                                   : blocks.media.data(),
-            poses[v].q.data(), poses[v].t.data());
+            blocks.d_air.data(), media_of(v), poses[v].q.data(), poses[v].t.data());
       } else {
         problem.AddResidualBlock(PinholeReprojectionCost::Create(observed, points[i]), nullptr,
                                  blocks.intrinsics.data(), blocks.distortion.data(),
@@ -143,8 +150,8 @@ CameraBundleResult SolveCameraBundle(const CornerSet& set, const std::vector<boo
   } else {
     problem.SetParameterBlockConstant(blocks.distortion.data());
   }
-  if (flat && any_air && problem.HasParameterBlock(air_media.data())) {
-    problem.SetParameterBlockConstant(air_media.data());
+  for (double* media : {air_media.data(), portless_media.data()}) {
+    if (flat && problem.HasParameterBlock(media)) problem.SetParameterBlockConstant(media);
   }
   if (flat) {
     problem.SetManifold(blocks.normal.data(), new ceres::SphereManifold<3>);
@@ -193,9 +200,8 @@ CameraBundleResult SolveCameraBundle(const CornerSet& set, const std::vector<boo
   for (size_t v = 0; v < set.views.size(); ++v) {
     std::vector<bool> valid;
     Camera view_camera = *camera;
-    if (!options.view_in_air.empty() && options.view_in_air[v]) {
-      view_camera.port.n_water = view_camera.port.n_air;
-    }
+    if (flat && (in_air(v) || portless(v))) view_camera.port.n_water = view_camera.port.n_air;
+    if (flat && portless(v)) view_camera.port.n_glass = view_camera.port.n_air;
     const auto residuals =
         ViewResiduals(view_camera, set.board, set.views[v], (*camera_from_board)[v], &valid);
     double view_sq = 0.0;

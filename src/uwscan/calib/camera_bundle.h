@@ -36,6 +36,11 @@ struct CameraBundleOptions {
   // all views under the camera's water. Lets air and water views share one
   // bundle (joint refinement).
   std::vector<bool> view_in_air;
+  // Flat port only: views with view_without_port[v] were taken without the
+  // port (camera calibrated in air before it goes behind the window, thesis
+  // §6.1): straight rays, only intrinsics and distortion act on them. Empty:
+  // every view through the port.
+  std::vector<bool> view_without_port;
   void Check() const;
 };
 

@@ -239,22 +239,25 @@ CameraCalibrationResult RefineFlatPortInWater(const CornerSet& water, const Came
                               options.common.outliers, "flatport-water");
 }
 
-CameraCalibrationResult CalibrateFlatPortJoint(const CornerSet& air,
-                                               const CameraCalibrationResult& air_result,
-                                               const CornerSet& water,
-                                               const WaterRefinementOptions& options) {
+namespace {
+
+// The joint bundle of air and water views; `camera` starts it, the air views
+// start from the poses of `air_result` and the water views from poses found
+// with `camera`.
+CameraCalibrationResult SolveJoint(const CornerSet& air, const CameraCalibrationResult& air_result,
+                                   const CornerSet& water, Camera camera, bool air_without_port,
+                                   const WaterRefinementOptions& options) {
   options.Check();
   air.Check("joint flat-port calibration (air views)");
   water.Check("joint flat-port calibration (water views)");
-  UWS_CHECK(air_result.camera.IsFlatPort() && air_result.views.size() == air.views.size(),
-            "joint flat-port calibration: needs the flat-port in-air result of the same views");
+  UWS_CHECK(air_result.views.size() == air.views.size(),
+            "joint flat-port calibration: needs the in-air result of the same views");
   UWS_CHECK(water.width == air.width && water.height == air.height,
             "joint flat-port calibration: water images are ", water.width, "x", water.height,
             " but air images are ", air.width, "x", air.height);
   UWS_CHECK(water.board.cols == air.board.cols && water.board.rows == air.board.rows &&
                 water.board.square_m == air.board.square_m,
             "joint flat-port calibration: air and water views must use the same board");
-  Camera camera = air_result.camera;
   camera.port.n_water = options.n_water;
   CornerSet joint = air;
   std::vector<Rigid3d> poses;
@@ -272,13 +275,38 @@ CameraCalibrationResult CalibrateFlatPortJoint(const CornerSet& air,
     joint.views.push_back({"water/" + view.name, view.corners});
     poses.push_back(pose ? pose->camera_from_board : Rigid3d());
     use.push_back(pose.has_value());
-    reasons.push_back(pose ? "" : "no board pose found with the in-air model");
+    reasons.push_back(pose ? "" : "no board pose found with the starting model");
     in_air.push_back(false);
   }
   CameraBundleOptions bundle = WaterBundleOptions(options, true);
-  bundle.view_in_air = in_air;
+  if (air_without_port) {
+    bundle.view_without_port = in_air;
+  } else {
+    bundle.view_in_air = in_air;
+  }
   return SolveWithOutlierLoop(joint, camera, poses, use, reasons, bundle, options.common.outliers,
-                              "flatport-joint");
+                              air_without_port ? "flatport-joint-portless-air" : "flatport-joint");
+}
+
+}  // namespace
+
+CameraCalibrationResult CalibrateFlatPortJoint(const CornerSet& air,
+                                               const CameraCalibrationResult& air_result,
+                                               const CornerSet& water,
+                                               const WaterRefinementOptions& options) {
+  UWS_CHECK(air_result.camera.IsFlatPort(),
+            "joint flat-port calibration: needs the flat-port in-air result");
+  return SolveJoint(air, air_result, water, air_result.camera, false, options);
+}
+
+CameraCalibrationResult CalibrateFlatPortJointPortlessAir(const CornerSet& air,
+                                                          const CameraCalibrationResult& pinhole,
+                                                          const CornerSet& water,
+                                                          const Camera& start,
+                                                          const WaterRefinementOptions& options) {
+  UWS_CHECK(start.IsFlatPort(), "joint flat-port calibration: the start camera '", start.name,
+            "' is not a flat-port camera");
+  return SolveJoint(air, pinhole, water, start, true, options);
 }
 
 }  // namespace uwscan

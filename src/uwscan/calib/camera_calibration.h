@@ -101,6 +101,18 @@ CameraCalibrationResult CalibrateFlatPortJoint(const CornerSet& air,
                                                const CornerSet& water,
                                                const WaterRefinementOptions& options);
 
+// The same for air views taken without the port (thesis §6.1: the camera
+// calibrated in air, then placed behind the window): the air views, with the
+// poses of the pinhole result `pinhole`, are straight-ray views sharing
+// intrinsics and distortion with the water views, so the focal length that
+// d_air trades against under water is held by the air views. `start` gives
+// the port to start from (e.g. RefineFlatPortInWater's result).
+CameraCalibrationResult CalibrateFlatPortJointPortlessAir(const CornerSet& air,
+                                                          const CameraCalibrationResult& pinhole,
+                                                          const CornerSet& water,
+                                                          const Camera& start,
+                                                          const WaterRefinementOptions& options);
+
 // The outlier loop around a bundle: solves over the views in `use`, drops
 // the worst view above the threshold, repeats. Exposed for tests.
 CameraCalibrationResult SolveWithOutlierLoop(const CornerSet& set, Camera camera,

@@ -33,13 +33,23 @@ std::optional<CornerDetector> CornerDetectorFromName(const std::string& name) {
 
 namespace {
 
-int CountLargerBoardCorners(const cv::Mat& image, const BoardSpec& board) {
+// Grey image of a mono or B G R image, optionally without one R G B channel.
+cv::Mat Grey(const cv::Mat& image, int ignore_channel) {
+  if (image.channels() != 3) return image;
   cv::Mat gray;
-  if (image.channels() == 3) {
+  if (ignore_channel < 0) {
     cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-  } else {
-    gray = image;
+    return gray;
   }
+  std::vector<cv::Mat> bgr;
+  cv::split(image, bgr);
+  const int ignored = 2 - ignore_channel;  // B G R storage
+  cv::addWeighted(bgr[(ignored + 1) % 3], 0.5, bgr[(ignored + 2) % 3], 0.5, 0.0, gray);
+  return gray;
+}
+
+int CountLargerBoardCorners(const cv::Mat& image, const BoardSpec& board) {
+  const cv::Mat gray = Grey(image, -1);
   std::vector<cv::Point2f> corners;
   const bool found = cv::findChessboardCornersSB(
       gray, cv::Size(board.cols, board.rows), corners,
@@ -51,6 +61,8 @@ int CountLargerBoardCorners(const cv::Mat& image, const BoardSpec& board) {
 
 void DetectionOptions::Check() const {
   UWS_CHECK(max_edge_width_px > 0.0, "max edge width must be positive");
+  UWS_CHECK(ignore_channel >= -1 && ignore_channel <= 2,
+            "ignore_channel must be -1 (none), 0, 1 or 2, got ", ignore_channel);
   UWS_CHECK(border_margin_px >= 0.0, "border margin must be >= 0");
 }
 
@@ -58,12 +70,7 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
                            const DetectionOptions& options) {
   options.Check();
   BoardDetection result;
-  cv::Mat gray;
-  if (image.channels() == 3) {
-    cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-  } else {
-    gray = image;
-  }
+  cv::Mat gray = Grey(image, options.ignore_channel);
   if (gray.depth() != CV_8U) gray.convertTo(gray, CV_8U, gray.depth() == CV_16U ? 1.0 / 256 : 1.0);
   // Dim frames (underwater, short exposure) are stretched linearly to the
   // full range: a linear map keeps the corner positions unbiased, unlike

@@ -30,6 +30,11 @@ struct DetectionOptions {
   double max_edge_width_px = 6.0;  // cv::estimateChessboardSharpness above this: blurred
   double min_contrast = 15.0;      // grey levels between black and white squares
   double border_margin_px = 3.0;   // corners closer to the border: partial view
+  // Colour images: leave this channel (0 red, 1 green, 2 blue) out of the
+  // grey image, e.g. the laser's in laser calibration, so that the line
+  // neither hides the dim board from the contrast stretch nor looks like an
+  // edge to the sharpness measure. -1: all channels.
+  int ignore_channel = -1;
   void Check() const;
 };
 

@@ -34,34 +34,42 @@ class LaserSheetCost {
   Eigen::Vector3d point_in_camera_;
 };
 
-// A point constrained to a line x0 + s * direction: ambient size 3, tangent
-// size 1. Used for the projector centre, which points on the sheet only fix
-// across the sheet (moving it within the sheet is a gauge freedom for p1 = 0).
-class LineManifold : public ceres::Manifold {
+// A point that may move only within the span of orthonormal directions (the
+// rest of R^3 is held): the projector centre across the sheet.
+class SubspaceManifold : public ceres::Manifold {
  public:
-  explicit LineManifold(const Eigen::Vector3d& direction) : direction_(direction.normalized()) {}
+  explicit SubspaceManifold(std::vector<Eigen::Vector3d> directions)
+      : directions_(std::move(directions)) {}
   int AmbientSize() const override { return 3; }
-  int TangentSize() const override { return 1; }
+  int TangentSize() const override { return static_cast<int>(directions_.size()); }
   bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
-    for (int i = 0; i < 3; ++i) x_plus_delta[i] = x[i] + delta[0] * direction_[i];
+    for (int i = 0; i < 3; ++i) {
+      x_plus_delta[i] = x[i];
+      for (size_t k = 0; k < directions_.size(); ++k) x_plus_delta[i] += delta[k] * directions_[k][i];
+    }
     return true;
   }
   bool PlusJacobian(const double*, double* jacobian) const override {
-    for (int i = 0; i < 3; ++i) jacobian[i] = direction_[i];
+    const int n = TangentSize();
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < n; ++k) jacobian[i * n + k] = directions_[k][i];
     return true;
   }
   bool Minus(const double* y, const double* x, double* y_minus_x) const override {
-    y_minus_x[0] = 0.0;
-    for (int i = 0; i < 3; ++i) y_minus_x[0] += (y[i] - x[i]) * direction_[i];
+    for (size_t k = 0; k < directions_.size(); ++k) {
+      y_minus_x[k] = 0.0;
+      for (int i = 0; i < 3; ++i) y_minus_x[k] += (y[i] - x[i]) * directions_[k][i];
+    }
     return true;
   }
   bool MinusJacobian(const double*, double* jacobian) const override {
-    for (int i = 0; i < 3; ++i) jacobian[i] = direction_[i];
+    for (size_t k = 0; k < directions_.size(); ++k)
+      for (int i = 0; i < 3; ++i) jacobian[k * 3 + i] = directions_[k][i];
     return true;
   }
 
  private:
-  Eigen::Vector3d direction_;
+  std::vector<Eigen::Vector3d> directions_;  // orthonormal
 };
 
 }  // namespace uwscan

@@ -77,7 +77,9 @@ TEST(LaserImagePipeline, RenderedBoardsWithLaserLineGiveTheSheet) {
     std::string name = "range_";
     name += std::to_string(range);
     views.push_back({name, board_pose->camera_from_board,
-                     ExtractLaserPixels(bgr, board, detection.points, laser_options)});
+                     DetectLaserOnTarget(
+                         bgr, TargetOutline(camera, board, board_pose->camera_from_board, 0.0),
+                         1, laser_options)});
   }
   LaserCalibrationOptions options;
   options.refine_bend = false;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 
 #include "uwscan/calib/board_render.h"
@@ -9,43 +11,57 @@
 namespace uwscan {
 namespace {
 
-// A rendered board with a green laser line (blurred Gaussian profile): the
-// extracted pixels lie on the line, inside the board.
-TEST(LaserPoints, ExtractsTheGreenLineOnTheBoard) {
+// A rendered board with a green laser line (Gaussian profile) that runs on
+// beyond the board: the points found lie on the line, and only inside the
+// target outline (the board's outer squares plus the margin).
+TEST(LaserPoints, FindsTheGreenLineOnTheTargetOnly) {
   const BoardSpec board{9, 6, 0.03};
   const Eigen::Quaterniond rotation(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()));
   const Rigid3d pose(
       rotation, Eigen::Vector3d(0.0, 0.0, 0.45) - rotation * Eigen::Vector3d(0.12, 0.075, 0.0));
   BoardRenderOptions render;
   render.blur_sigma_px = 0.7;
+  render.white = 180.0;  // + the line's 60: no saturation
   std::vector<Eigen::Vector2d> corners;
   const cv::Mat gray = RenderBoard(board, pose, render, &corners);
+  Camera camera;
+  camera.model = CameraModelId::kPinhole;
+  camera.width = render.width;
+  camera.height = render.height;
+  camera.intrinsics = {render.focal_px, render.focal_px, (render.width - 1) / 2.0,
+                       (render.height - 1) / 2.0};
+  // The camera reproduces the renderer's corners.
+  const auto first = camera.Project(pose * board.Corners()[0]);
+  ASSERT_TRUE(first.has_value());
+  ASSERT_LT((*first - corners[0]).norm(), 1e-6);
   cv::Mat bgr;
   cv::cvtColor(gray, bgr, cv::COLOR_GRAY2BGR);
-  // Near-vertical line x = a + b y in pixels, drawn as a Gaussian profile.
+  // Near-vertical line x = a + b y in pixels, over the whole image height.
   const double a = 610.3, b = 0.05;
-  cv::Mat laser(bgr.size(), CV_32F, cv::Scalar(0));
-  for (int y = 0; y < laser.rows; ++y) {
-    for (int x = 0; x < laser.cols; ++x) {
+  for (int y = 0; y < bgr.rows; ++y) {
+    for (int x = 0; x < bgr.cols; ++x) {
       const double d = x - (a + b * y);
-      laser.at<float>(y, x) = static_cast<float>(150.0 * std::exp(-0.5 * d * d / 1.5));
+      cv::Vec3b& px = bgr.at<cv::Vec3b>(y, x);
+      px[1] = cv::saturate_cast<uchar>(px[1] + 60.0 * std::exp(-0.5 * d * d / 1.5));
     }
   }
-  std::vector<cv::Mat> channels;
-  cv::split(bgr, channels);
-  cv::Mat green;
-  channels[1].convertTo(green, CV_32F);
-  green += laser;
-  green.convertTo(channels[1], CV_8U);
-  cv::merge(channels, bgr);
-
-  const auto pixels = ExtractLaserPixels(bgr, board, corners);
-  ASSERT_GT(pixels.size(), 100u);
-  double max_error = 0.0;
-  for (const auto& p : pixels) max_error = std::max(max_error, std::abs(p.x() - (a + b * p.y())));
-  // CoG over +-3 px; on white squares the line saturates at 255 (measured
-  // worst case 0.27 px), hence not tighter.
-  EXPECT_LT(max_error, 0.3);
+  for (const double margin : {0.0, 0.02}) {
+    const std::vector<cv::Point2f> outline = TargetOutline(camera, board, pose, margin);
+    const auto pixels = DetectLaserOnTarget(bgr, outline);
+    ASSERT_GT(pixels.size(), 100u);
+    double max_error = 0.0;
+    for (const auto& p : pixels) max_error = std::max(max_error, std::abs(p.x() - (a + b * p.y())));
+    EXPECT_LT(max_error, 0.1) << margin;
+    // Found on (nearly) every row where the line is on the target, none off it.
+    int rows_on_target = 0;
+    for (int y = 0; y < bgr.rows; ++y) {
+      rows_on_target += cv::pointPolygonTest(outline, cv::Point2f(a + b * y, y), false) > 0;
+    }
+    std::printf("margin %.2f m: %zu points, line on the target over %d rows\n", margin,
+                pixels.size(), rows_on_target);
+    EXPECT_GE(pixels.size(), 0.95 * rows_on_target) << margin;
+    EXPECT_LE(pixels.size(), rows_on_target + 2) << margin;
+  }
 }
 
 }  // namespace

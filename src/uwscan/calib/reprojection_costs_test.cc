@@ -59,7 +59,7 @@ TEST(ReprojectionCosts, PinholeJacobiansMatch) {
   EXPECT_EQ(CheckJacobians(*cost, params, 1e-7), "");
 }
 
-TEST(LaserCosts, SheetJacobiansMatchAndLineManifoldMoves) {
+TEST(LaserCosts, SheetJacobiansMatchAndSubspaceManifoldMoves) {
   double q[4] = {0.9, 0.2, -0.3, 0.1};
   const double norm = std::sqrt(0.81 + 0.04 + 0.09 + 0.01);
   for (double& v : q) v /= norm;
@@ -68,14 +68,24 @@ TEST(LaserCosts, SheetJacobiansMatchAndLineManifoldMoves) {
   std::unique_ptr<ceres::CostFunction> cost(LaserSheetCost::Create({0.1, 0.2, 0.8}));
   EXPECT_EQ(CheckJacobians(*cost, {q, t, p1}, 1e-7), "");
 
-  LineManifold manifold(Eigen::Vector3d(0, 3, 4));
-  const double x[3] = {1, 2, 3}, delta[1] = {5};
-  double y[3], back[1];
+  // One direction (0, 0.6, 0.8) and a second one orthogonal to it.
+  SubspaceManifold manifold({Eigen::Vector3d(0, 0.6, 0.8), Eigen::Vector3d(1, 0, 0)});
+  const double x[3] = {1, 2, 3}, delta[2] = {5, -2};
+  double y[3], back[2];
   manifold.Plus(x, delta, y);
+  EXPECT_DOUBLE_EQ(y[0], -1.0);
   EXPECT_DOUBLE_EQ(y[1], 5.0);
   EXPECT_DOUBLE_EQ(y[2], 7.0);
   manifold.Minus(y, x, back);
   EXPECT_DOUBLE_EQ(back[0], 5.0);
+  EXPECT_DOUBLE_EQ(back[1], -2.0);
+  double plus_jacobian[6], minus_jacobian[6];
+  manifold.PlusJacobian(x, plus_jacobian);    // 3x2 row-major
+  manifold.MinusJacobian(x, minus_jacobian);  // 2x3 row-major
+  EXPECT_DOUBLE_EQ(plus_jacobian[1 * 2 + 0], 0.6);
+  EXPECT_DOUBLE_EQ(plus_jacobian[0 * 2 + 1], 1.0);
+  EXPECT_DOUBLE_EQ(minus_jacobian[0 * 3 + 2], 0.8);
+  EXPECT_DOUBLE_EQ(minus_jacobian[1 * 3 + 0], 1.0);
 }
 
 }  // namespace
