@@ -12,8 +12,38 @@ namespace uwscan::fusion {
 void SelfReferencedOptions::Check() const {
   odometry.Check();
   surface.Check();
-  UWS_CHECK(mask_dilation_px >= 0 && max_init_frames >= 2 && init_attempt_every >= 1,
+  UWS_CHECK(mask_dilation_px >= 0 && max_init_frames >= 2 && init_attempt_every >= 1 &&
+                max_tracking_width >= 0,
             "self-referenced odometry: invalid options");
+}
+
+std::optional<cv::Point> SelfReferencedPoseProvider::BayerSampleOffset(const std::string& bayer,
+                                                                       int rgb_channel) {
+  // Column, row of the channel's sample in each 2x2 cell (green: none, two).
+  const char wanted = rgb_channel == laser::kRed ? 'r' : rgb_channel == laser::kBlue ? 'b' : 'g';
+  if (bayer.size() != 4 || wanted == 'g') return std::nullopt;
+  const size_t at = bayer.find(wanted);
+  if (at == std::string::npos || bayer.find(wanted, at + 1) != std::string::npos)
+    return std::nullopt;
+  return cv::Point(static_cast<int>(at % 2), static_cast<int>(at / 2));
+}
+
+cv::Mat SelfReferencedPoseProvider::BayerChannel(const cv::Mat& raw, const cv::Point& offset) {
+  UWS_CHECK(raw.channels() == 1, "self-referenced odometry: expected a raw Bayer frame, got ",
+            raw.channels(), " channels");
+  cv::Mat channel(raw.rows / 2, raw.cols / 2, raw.type());
+  for (int y = 0; y < channel.rows; ++y) {
+    if (raw.depth() == CV_16U) {
+      const uint16_t* in = raw.ptr<uint16_t>(2 * y + offset.y) + offset.x;
+      uint16_t* out = channel.ptr<uint16_t>(y);
+      for (int x = 0; x < channel.cols; ++x) out[x] = in[2 * x];
+    } else {
+      const uint8_t* in = raw.ptr<uint8_t>(2 * y + offset.y) + offset.x;
+      uint8_t* out = channel.ptr<uint8_t>(y);
+      for (int x = 0; x < channel.cols; ++x) out[x] = in[2 * x];
+    }
+  }
+  return channel;
 }
 
 cv::Mat SelfReferencedPoseProvider::PassiveImage(const cv::Mat& image, const std::string& bayer,
@@ -47,7 +77,30 @@ SelfReferencedPoseProvider::SelfReferencedPoseProvider(const Camera& camera, int
                                                        const SelfReferencedOptions& options)
     : camera_(camera), laser_channel_(laser_channel), options_(options) {
   options_.Check();
+  while (options_.max_tracking_width > 0 &&
+         (camera_.width >> tracking_halvings_) > options_.max_tracking_width &&
+         (camera_.width >> tracking_halvings_) >= 320) {
+    ++tracking_halvings_;
+  }
+  tracking_camera_ = ScaledCamera(camera_, 1.0 / (1 << tracking_halvings_));
   smoother_ = std::make_unique<PoseSmoother>(options_.smoothing_half_window);
+}
+
+void SelfReferencedPoseProvider::ChooseTrackedImage(const cv::Mat& frame) {
+  const int passive_rgb = laser_channel_ == laser::kRed ? laser::kBlue : laser::kRed;
+  if (tracking_halvings_ > 0 && frame.channels() == 1)
+    bayer_offset_ = BayerSampleOffset(camera_.bayer, passive_rgb);
+  if (bayer_offset_) {
+    // Half-resolution pixel x is full-resolution pixel 2 x + offset; later
+    // halvings average 2x2 blocks (pixel centres scale about -0.5).
+    Camera half = camera_;
+    half.width /= 2;
+    half.height /= 2;
+    half.intrinsics = {camera_.intrinsics[0] / 2, camera_.intrinsics[1] / 2,
+                       (camera_.intrinsics[2] - bayer_offset_->x) / 2,
+                       (camera_.intrinsics[3] - bayer_offset_->y) / 2};
+    tracking_camera_ = ScaledCamera(half, 1.0 / (1 << (tracking_halvings_ - 1)));
+  }
 }
 
 void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, double timestamp_s,
@@ -57,17 +110,37 @@ void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, doub
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame) {
+  if (frames_ == 0) ChooseTrackedImage(frame.image);
   ++frames_;
   Held held;
   held.input = frame;
-  held.input.image = NormalizeIllumination(PassiveImage(frame.image, camera_.bayer, laser_channel_),
-                                           options_.illumination_sigma_fraction * camera_.width);
+  cv::Mat passive;
+  int halvings = tracking_halvings_;
+  if (bayer_offset_) {
+    UWS_CHECK(frame.image.channels() == 1, "frame ", frame.index,
+              ": a colour image in a sequence of raw Bayer frames");
+    // The passive colour's own samples of the raw mosaic: half resolution
+    // without demosaicking (the tracking camera accounts for their offset).
+    passive = BayerChannel(frame.image, *bayer_offset_);
+    --halvings;
+  } else {
+    passive = PassiveImage(frame.image, camera_.bayer, laser_channel_);
+  }
+  for (int i = 0; i < halvings; ++i)
+    cv::resize(passive, passive, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  held.input.image = NormalizeIllumination(
+      passive, options_.illumination_sigma_fraction * tracking_camera_.width);
   held.input.detection = nullptr;
   held.input.profile = nullptr;
   if (frame.detection && !frame.detection->mask.empty()) {
     const int d = options_.mask_dilation_px;
     cv::dilate(frame.detection->mask, held.mask,
                cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
+    for (int i = 0; i < tracking_halvings_; ++i) {
+      // A tracked pixel is masked if any of its full-resolution pixels is.
+      cv::resize(held.mask, held.mask, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+      cv::threshold(held.mask, held.mask, 0, 255, cv::THRESH_BINARY);
+    }
   }
   if (frame.profile) held.profile = *frame.profile;
 
@@ -110,7 +183,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     if (!hit) return std::nullopt;
     return vo::SurfaceHit{hit->point, hit->sigma_m};
   };
-  odometry_ = std::make_unique<vo::Odometry>(camera_, odometry_options);
+  odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, odometry_options);
   const Held& first = held_.front();
   const vo::FrameResult start = odometry_->InitializeFromSurface(first.input.image, first.mask,
                                                                  first.input.timestamp_s, origin);
@@ -191,6 +264,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Finish() {
 
 nlohmann::json SelfReferencedPoseProvider::Details() const {
   return {{"frames", frames_},
+          {"tracked_image_width", tracking_camera_.width},
           {"tracked", tracked_},
           {"lost", lost_},
           {"reinitialisations", reinitialisations_},

@@ -120,6 +120,18 @@ Camera ThesisCamera(const Eigen::Vector3d& normal, double d_air) {
 }
 }  // namespace
 
+Camera ScaledCamera(const Camera& camera, double factor) {
+  UWS_CHECK(factor > 0.0, "ScaledCamera: factor must be positive, got ", factor);
+  Camera scaled = camera;
+  scaled.width = static_cast<int>(std::lround(camera.width * factor));
+  scaled.height = static_cast<int>(std::lround(camera.height * factor));
+  scaled.intrinsics[0] = camera.intrinsics[0] * factor;
+  scaled.intrinsics[1] = camera.intrinsics[1] * factor;
+  scaled.intrinsics[2] = (camera.intrinsics[2] + 0.5) * factor - 0.5;
+  scaled.intrinsics[3] = (camera.intrinsics[3] + 0.5) * factor - 0.5;
+  return scaled;
+}
+
 Camera Camera::Flat1() { return ThesisCamera(Eigen::Vector3d(0, 0, 1), 0.005); }
 Camera Camera::Flat2() { return ThesisCamera(Eigen::Vector3d(0, 0, 1), 0.010); }
 Camera Camera::Flat3() { return ThesisCamera(Eigen::Vector3d(0.02, -0.01, 1), 0.005); }

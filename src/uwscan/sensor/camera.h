@@ -74,4 +74,9 @@ struct Camera {
   static Camera Flat3();
 };
 
+// The camera of the image resized by `factor` (0.5: half width and height):
+// intrinsics scaled about pixel centres (OpenCV convention, (0, 0) is the
+// centre of the first pixel), distortion and port unchanged.
+Camera ScaledCamera(const Camera& camera, double factor);
+
 }  // namespace uwscan

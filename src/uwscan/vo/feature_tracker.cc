@@ -129,8 +129,11 @@ void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const
   if (from.empty()) return;
   std::vector<uint8_t> status;
   std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(anchor_pyramid_, pyramid, from, to, status, error, window,
-                           options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  // The frame-to-frame position starts within a pixel or so of the answer
+  // (a larger correction is refused below): full resolution only, a quarter
+  // of the work of the pyramid.
+  cv::calcOpticalFlowPyrLK(anchor_pyramid_, pyramid, from, to, status, error, window, 0, criteria,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
   for (size_t k = 0; k < index.size(); ++k) {
     cv::Point2f& p = (*current)[index[k]];
     if (status[k] && std::isfinite(to[k].x) && std::isfinite(to[k].y) &&

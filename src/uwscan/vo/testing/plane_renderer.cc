@@ -137,17 +137,6 @@ cv::Mat PlaneRenderer::LaserMask(const RenderOptions& options, double margin_px)
   return mask;
 }
 
-Camera ScaledCamera(const Camera& camera, double factor) {
-  Camera scaled = camera;
-  scaled.width = int(std::lround(camera.width * factor));
-  scaled.height = int(std::lround(camera.height * factor));
-  for (double& value : scaled.intrinsics) value *= factor;
-  // Pixel centres: OpenCV convention, (0,0) is the centre of the first pixel.
-  scaled.intrinsics[2] = (camera.intrinsics[2] + 0.5) * factor - 0.5;
-  scaled.intrinsics[3] = (camera.intrinsics[3] + 0.5) * factor - 0.5;
-  return scaled;
-}
-
 Rigid3d DownwardPose(const Eigen::Vector3d& position, double yaw_rad, double roll_rad,
                      double pitch_rad) {
   // Camera z = -world z, camera x = world x, camera y = -world y.

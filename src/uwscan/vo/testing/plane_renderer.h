@@ -68,8 +68,7 @@ class PlaneRenderer {
   std::vector<std::optional<Ray>> rays_;  // per pixel, camera frame
 };
 
-// Camera::Flat1() (1280x960) scaled by `factor` (0.25 -> 320x240).
-Camera ScaledCamera(const Camera& camera, double factor);
+using uwscan::ScaledCamera;  // sensor/camera.h
 
 // A camera looking straight down (optical axis -z_world, image x along world
 // x) at position (x, y, altitude) with small yaw/roll wobble.
