@@ -17,16 +17,21 @@ namespace {
 namespace fs = std::filesystem;
 
 void PrintCloudEvaluation(const ReconstructionEvaluation& evaluation) {
-  std::printf("%-16s %-12s %8s %12s %14s %12s\n", "cloud", "surface", "points", "fit std mm",
-              "point err mm", "dist err %");
+  std::printf("%-16s %-12s %8s %12s %22s %14s %12s\n", "cloud", "surface", "points",
+              "fit std mm", "robust fit mm (drop)", "point err mm", "dist err %");
   for (const auto& [label, cloud] : {std::pair{"compensated", &evaluation.compensated},
                                      std::pair{"uncompensated", &evaluation.uncompensated}}) {
-    std::printf("%-16s %-12s %8ld %12s %14.3f %12s\n", label, "(all)", cloud->matched, "",
+    std::printf("%-16s %-12s %8ld %12s %22s %14.3f %12s\n", label, "(all)", cloud->matched, "", "",
                 cloud->point_error_rms_m * 1e3, "");
     for (const auto& s : cloud->surfaces) {
       if (s.points == 0) continue;
-      std::printf("%-16s %-12s %8ld %12.3f %14.3f %12.3f\n", label, s.name.c_str(), s.points,
-                  s.fit_rms_m * 1e3, s.point_error_rms_m * 1e3, s.distance_error_mean_pct);
+      char robust[32] = "";
+      if (s.robust_fit_rms_m > 0.0)
+        std::snprintf(robust, sizeof(robust), "%.3f (%ld)", s.robust_fit_rms_m * 1e3,
+                      s.robust_outliers);
+      std::printf("%-16s %-12s %8ld %12.3f %22s %14.3f %12.3f\n", label, s.name.c_str(), s.points,
+                  s.fit_rms_m * 1e3, robust, s.point_error_rms_m * 1e3,
+                  s.distance_error_mean_pct);
     }
   }
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <optional>
 #include <random>
 
 #include "uwscan/geometry/fits.h"
@@ -46,6 +48,32 @@ void DistanceErrors(const std::vector<Eigen::Vector3d>& reconstructed,
   out->distance_pairs = static_cast<int>(errors.size());
 }
 
+// Robust refit (see SurfaceAccuracy::robust_fit_rms_m). `residuals` fits
+// the shape to its first argument and returns the residuals of the second
+// under that fit, or nothing if the shape cannot be fitted.
+using FitResiduals = std::function<std::optional<std::vector<double>>(
+    const std::vector<Eigen::Vector3d>& fit_to, const std::vector<Eigen::Vector3d>& evaluate)>;
+
+void RobustFit(const std::vector<Eigen::Vector3d>& points, const FitResiduals& residuals,
+               SurfaceAccuracy* out) {
+  std::vector<Eigen::Vector3d> kept = points;
+  for (int round = 0; round < 2; ++round) {
+    const auto all = residuals(kept, points);
+    if (!all) return;
+    std::vector<double> magnitudes;
+    for (double r : *all) magnitudes.push_back(std::abs(r));
+    const double gate = std::max(5.0 * 1.4826 * Median(magnitudes), 0.005);
+    kept.clear();
+    for (size_t i = 0; i < points.size(); ++i)
+      if (magnitudes[i] <= gate) kept.push_back(points[i]);
+    if (kept.size() < 10) return;
+  }
+  const auto final_residuals = residuals(kept, kept);
+  if (!final_residuals) return;
+  out->robust_fit_rms_m = Rms(*final_residuals);
+  out->robust_outliers = static_cast<long>(points.size() - kept.size());
+}
+
 }  // namespace
 
 nlohmann::json SurfaceAccuracy::ToJson() const {
@@ -54,6 +82,8 @@ nlohmann::json SurfaceAccuracy::ToJson() const {
           {"points", points},
           {"fit_rms_mm", fit_rms_m * 1e3},
           {"fit_max_abs_mm", fit_max_abs_m * 1e3},
+          {"robust_fit_rms_mm", robust_fit_rms_m * 1e3},
+          {"robust_outliers", robust_outliers},
           {"point_error_rms_mm", point_error_rms_m * 1e3},
           {"distance_error_mean_pct", distance_error_mean_pct},
           {"distance_error_median_pct", distance_error_median_pct},
@@ -136,6 +166,17 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
         result.fit_rms_m = plane->rms;
         result.fit_max_abs_m = plane->max_abs;
       }
+      RobustFit(
+          reconstructed[s],
+          [](const std::vector<Eigen::Vector3d>& fit_to,
+             const std::vector<Eigen::Vector3d>& evaluate) -> std::optional<std::vector<double>> {
+            const auto plane = FitPlane(fit_to);
+            if (!plane) return std::nullopt;
+            std::vector<double> r;
+            for (const auto& p : evaluate) r.push_back(plane->SignedDistance(p));
+            return r;
+          },
+          &result);
       DistanceErrors(reconstructed[s], true_points[s], seed, &result);
     } else if (surface.type == sim::SurfaceType::kCylinder) {
       const Eigen::Vector3d axis = surface.world_from_surface.rotation * Eigen::Vector3d::UnitZ();
@@ -143,13 +184,24 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
       for (const auto& p : reconstructed[s]) centroid += p;
       centroid /= reconstructed[s].size();
       const Eigen::Vector3d towards = surface.world_from_surface.translation - centroid;
-      if (const auto cylinder = FitCylinder(reconstructed[s], axis, surface.radius,
-                                            towards - towards.dot(axis) * axis)) {
+      const Eigen::Vector3d towards_axis = towards - towards.dot(axis) * axis;
+      if (const auto cylinder = FitCylinder(reconstructed[s], axis, surface.radius, towards_axis)) {
         result.fit_rms_m = cylinder->rms;
         for (const auto& p : reconstructed[s]) {
           result.fit_max_abs_m = std::max(result.fit_max_abs_m, std::abs(cylinder->Residual(p)));
         }
       }
+      RobustFit(
+          reconstructed[s],
+          [&](const std::vector<Eigen::Vector3d>& fit_to,
+              const std::vector<Eigen::Vector3d>& evaluate) -> std::optional<std::vector<double>> {
+            const auto cylinder = FitCylinder(fit_to, axis, surface.radius, towards_axis);
+            if (!cylinder) return std::nullopt;
+            std::vector<double> r;
+            for (const auto& p : evaluate) r.push_back(cylinder->Residual(p));
+            return r;
+          },
+          &result);
     }
     accuracy.surfaces.push_back(result);
   }

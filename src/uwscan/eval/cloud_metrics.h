@@ -21,6 +21,12 @@ struct SurfaceAccuracy {
   long points = 0;
   double fit_rms_m = 0.0;  // std of signed distances to the fitted plane / cylinder residual
   double fit_max_abs_m = 0.0;
+  // The same fit without gross outliers (mixed pixels where the line jumps
+  // between a surface and what is behind it, e.g. the shaft's silhouette):
+  // points farther than max(5 robust sigmas (1.4826 MAD), 5 mm) from the
+  // fit are dropped and the shape refitted, twice.
+  double robust_fit_rms_m = 0.0;
+  long robust_outliers = 0;
   double point_error_rms_m = 0.0;        // |reconstructed - true|
   double distance_error_mean_pct = 0.0;  // planes: |d_rec - d_true| / d_true over point pairs
   double distance_error_median_pct = 0.0;

@@ -181,7 +181,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
                                     const Eigen::Vector3d& d) -> std::optional<vo::SurfaceHit> {
     const auto hit = live->Intersect(o, d);
     if (!hit) return std::nullopt;
-    return vo::SurfaceHit{hit->point, hit->sigma_m};
+    return vo::SurfaceHit{hit->point, hit->sigma_m, hit->extrapolated};
   };
   odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, odometry_options);
   const Held& first = held_.front();

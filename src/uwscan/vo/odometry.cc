@@ -509,6 +509,8 @@ void Odometry::PruneMap() {
   for (auto it = map_.points.begin(); it != map_.points.end();) {
     it = alive.count(it->first) ? std::next(it) : map_.points.erase(it);
   }
+  for (auto it = extrapolated_points_.begin(); it != extrapolated_points_.end();)
+    it = map_.points.count(*it) ? std::next(it) : extrapolated_points_.erase(it);
 }
 
 }  // namespace uwscan::vo
@@ -519,13 +521,36 @@ int Odometry::AddSurfacePoints(Keyframe* keyframe) {
   const Rigid3d world_from_camera = keyframe->WorldFromCamera();
   int added = 0;
   for (const auto& [id, pixel] : keyframe->observations) {
-    if (map_.points.count(id)) continue;
+    const auto existing = map_.points.find(id);
+    const bool remeasure = existing != map_.points.end() && extrapolated_points_.count(id) > 0;
+    if (existing != map_.points.end() && !remeasure) continue;
     const auto ray = camera_.BackProject(pixel);
     if (!ray) continue;
     const Ray world = ToWorld(world_from_camera, *ray);
     const auto hit = options_.surface(world.origin, world.direction);
     if (!hit) continue;
-    map_.points[id] = {id, hit->point_world, 1};
+    if (remeasure) {
+      if (hit->extrapolated) continue;  // still not swept
+      // Measured now. A point far from the measurement sat on the wrong
+      // surface (e.g. a shaft in front of the extrapolated hull): move it and
+      // drop the constraints that held it there.
+      extrapolated_points_.erase(id);
+      const double range = (existing->second.position_world - world.origin).norm();
+      const double measured = (hit->point_world - world.origin).norm();
+      if (std::abs(range - measured) > 3.0 * hit->sigma_m) {
+        existing->second.position_world = hit->point_world;
+        for (Keyframe& kf : map_.keyframes) {
+          auto& ranges = kf.range_constraints;
+          ranges.erase(std::remove_if(ranges.begin(), ranges.end(),
+                                      [id = id](const RangeConstraint& r) { return r.point_id == id; }),
+                       ranges.end());
+        }
+        ++remeasured_moved_;
+      }
+    } else {
+      map_.points[id] = {id, hit->point_world, 1};
+      if (hit->extrapolated) extrapolated_points_.insert(id);
+    }
     keyframe->range_constraints.push_back(
         {id, (hit->point_world - world.origin).norm(), hit->sigma_m});
     ++added;

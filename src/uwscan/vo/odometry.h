@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "uwscan/sensor/camera.h"
@@ -31,6 +32,10 @@ namespace uwscan::vo {
 struct SurfaceHit {
   Eigen::Vector3d point_world;
   double sigma_m = 0.003;
+  // Not measured around the ray but extrapolated (a dominant plane): such
+  // points are measured again at later keyframes, once the laser has swept
+  // there, and moved if the measurement disagrees.
+  bool extrapolated = false;
 };
 
 enum class FrameStatus {
@@ -172,6 +177,7 @@ class Odometry {
   OdometryOptions options_;
   FeatureTracker tracker_;
   SparseMap map_;
+  std::unordered_set<uint64_t> extrapolated_points_;  // depth from an extrapolated surface
   enum class State { kInitializing, kTracking, kLost } state_ = State::kInitializing;
   std::optional<Reference> reference_;
   int frame_count_ = 0;
@@ -179,6 +185,7 @@ class Odometry {
   uint64_t next_keyframe_id_ = 0;
   int num_maps_ = 0;
   int last_keyframe_inliers_ = 0;
+  int remeasured_moved_ = 0;  // extrapolated points moved to the measured surface
   Rigid3d last_camera_from_world_;  // last emitted pose
   double last_median_depth_ = 2.0;  // scale carried over a re-initialisation
   std::future<AdjustedWindow> pending_ba_;

@@ -212,5 +212,47 @@ TEST(Odometry, RangeConstraintsMakeTheTrajectoryMetric) {
   EXPECT_NEAR(m.alignment.scale, 1.0, 0.02);
 }
 
+// Map points that took an extrapolated depth (a dominant plane where the
+// laser has not swept yet) are measured again once the surface there is
+// measured, and moved when they were wrong: here the extrapolation puts
+// every point 25 % too far until frame 15, then the true surface appears.
+TEST(Odometry, ExtrapolatedDepthsAreMeasuredAgain) {
+  const Camera camera = testing::ScaledCamera(Camera::Flat1(), 0.25);
+  const TexturedTerrain terrain(SmallTerrain());
+  PlaneRenderer renderer(camera, terrain);
+  const auto poses = testing::TransectPoses(45, 0.6, 2.0);
+  bool swept = false;
+  OdometryOptions options;
+  options.surface = [&](const Eigen::Vector3d& origin,
+                        const Eigen::Vector3d& direction) -> std::optional<SurfaceHit> {
+    const auto hit = terrain.Intersect(origin, direction);
+    if (!hit) return std::nullopt;
+    if (swept) return SurfaceHit{*hit, 0.002, false};
+    return SurfaceHit{origin + 1.25 * (*hit - origin), 0.02, true};
+  };
+  Odometry odometry(camera, options);
+  ASSERT_EQ(odometry.InitializeFromSurface(renderer.Render(poses[0]), cv::Mat(), 0.0, poses[0]).status,
+            FrameStatus::kTracked);
+  for (size_t i = 1; i < poses.size(); ++i) {
+    swept = i >= 15;
+    odometry.ProcessFrame(renderer.Render(poses[i]), cv::Mat(), 0.1 * double(i));
+  }
+  int near = 0, total = 0;
+  for (const auto& [id, point] : odometry.map().points) {
+    const double height = point.position_world.z() - terrain.Height(point.position_world.x(),
+                                                                     point.position_world.y());
+    near += std::abs(height) < 0.02;
+    ++total;
+  }
+  printf("%d of %d map points within 2 cm of the surface\n", near, total);
+  ASSERT_GT(total, 50);
+  // Without the re-measurement: 228 of 597 near and the last keyframe
+  // 11.5 cm off; with it 407 of 485 and 6.3 cm (the frames before the sweep
+  // were tracked at the wrong scale and stay so).
+  EXPECT_GT(near, 0.75 * total);
+  const Rigid3d last = odometry.map().keyframes.back().WorldFromCamera();
+  EXPECT_LT((last.translation - poses.back().translation).norm(), 0.09);
+}
+
 }  // namespace
 }  // namespace uwscan::vo

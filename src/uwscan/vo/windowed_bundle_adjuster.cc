@@ -1,5 +1,7 @@
 #include "uwscan/vo/windowed_bundle_adjuster.h"
 
+#include <algorithm>
+
 #include <chrono>
 #include <cmath>
 
@@ -16,6 +18,8 @@ void BundleAdjustmentOptions::Check() const {
   UWS_CHECK(taylor_iterations >= 1, "taylor_iterations must be >= 1");
   UWS_CHECK(sigma_px > 0 && huber_px > 0 && outlier_px > 0, "sigma/huber/outlier must be > 0");
   UWS_CHECK(max_iterations >= 1, "max_iterations must be >= 1");
+  UWS_CHECK(range_cauchy_sigmas > 0 && range_outlier_sigmas > 0,
+            "range_cauchy_sigmas and range_outlier_sigmas must be > 0");
 }
 
 namespace {
@@ -64,7 +68,9 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
     uint64_t point_id;
     int keyframe;
   };
-  std::vector<ResidualRef> residual_refs;
+  std::vector<ResidualRef> residual_refs, range_refs;
+  // Shared by all range residuals; owned by the problem once one uses it.
+  ceres::LossFunction* range_loss = new ceres::CauchyLoss(options.range_cauchy_sigmas);
   for (int k = 0; k < count; ++k) {
     Keyframe& kf = map->keyframes[size_t(first + k)];
     PoseBlock& pose = poses[size_t(k)];
@@ -85,12 +91,15 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
       if (it == map->points.end() || obs == kf.observations.end()) continue;
       const std::optional<Ray> ray = camera.BackProject(obs->second);
       if (!ray) continue;
-      problem.AddResidualBlock(RangeCost::Create(ray->origin, range.range_m, range.sigma_m),
-                               nullptr, pose.q, pose.t, it->second.position_world.data());
+      const ceres::ResidualBlockId id =
+          problem.AddResidualBlock(RangeCost::Create(ray->origin, range.range_m, range.sigma_m),
+                                   range_loss, pose.q, pose.t, it->second.position_world.data());
+      range_refs.push_back({id, range.point_id, k});
       ++summary.range_residuals;
     }
   }
-  // The problem owns the loss only once a residual uses it.
+  // The problem owns a loss only once a residual uses it.
+  if (range_refs.empty()) delete range_loss;
   if (residual_refs.empty()) {
     delete loss;
     return summary;
@@ -161,6 +170,20 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
     Keyframe& kf = map->keyframes[size_t(first + ref.keyframe)];
     kf.observations.erase(ref.point_id);
     if (ref.keyframe == count - 1) summary.removed_observations.push_back(ref.point_id);
+  }
+  // Range constraints that stay far off after the solve are wrong (§5.4).
+  for (const ResidualRef& ref : range_refs) {
+    double residual = 0.0;
+    std::vector<double*> blocks;
+    problem.GetParameterBlocksForResidualBlock(ref.id, &blocks);
+    const bool ok =
+        problem.GetCostFunctionForResidualBlock(ref.id)->Evaluate(blocks.data(), &residual, nullptr);
+    if (ok && std::abs(residual) <= options.range_outlier_sigmas) continue;
+    auto& ranges = map->keyframes[size_t(first + ref.keyframe)].range_constraints;
+    ranges.erase(std::remove_if(ranges.begin(), ranges.end(),
+                                [&](const RangeConstraint& r) { return r.point_id == ref.point_id; }),
+                 ranges.end());
+    ++summary.removed_range_constraints;
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;

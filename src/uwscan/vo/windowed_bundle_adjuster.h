@@ -37,6 +37,12 @@ struct BundleAdjustmentOptions {
   double sigma_px = 1.0;
   double huber_px = 1.5;    // robust loss scale (pixels)
   double outlier_px = 3.0;  // observations above are removed after the solve
+  // Range constraints (thesis §5.4, eq. 5.3): Cauchy loss of this scale (in
+  // sigmas), and after each solve those still this many sigmas off are
+  // removed (a feature in front of the surface the laser measured, e.g. a
+  // shaft before a hull, or a wrongly extrapolated plane).
+  double range_cauchy_sigmas = 2.0;
+  double range_outlier_sigmas = 4.0;
   int max_iterations = 10;
   double max_solver_time_s = 0.2;
   ExtraResidualCallback extra_residuals;
@@ -48,6 +54,7 @@ struct BundleAdjustmentSummary {
   int points = 0;
   int residuals = 0;
   int range_residuals = 0;
+  int removed_range_constraints = 0;
   int iterations = 0;
   double initial_rms_px = 0.0;
   double final_rms_px = 0.0;

@@ -156,6 +156,54 @@ TEST(WindowedBundleAdjustment, RangeConstraintsFixTheScale) {
   EXPECT_NEAR(baseline / truth, 1.0, 1e-3);
 }
 
+// Thesis §5.4: range constraints under a Cauchy loss, and those still far
+// off after the solve removed. Ten of the 50 constraints claim ranges 30 %
+// too long (a feature in front of the surface the laser measured): the
+// scale must still come out right, and the wrong ones go (all but those
+// whose point may slide along its ray to meet them, at most two), no
+// right one.
+TEST(WindowedBundleAdjustment, WrongRangeConstraintsAreOutvotedAndRemoved) {
+  const Camera camera = DeepPortCamera();
+  Synthetic s = MakeWindow(camera, 0.0, 8);
+  for (Keyframe& kf : s.map.keyframes) kf.camera_from_world.translation *= 0.9;
+  for (auto& [id, p] : s.map.points) p.position_world *= 0.9;
+  int wrong = 0;
+  for (int k = 0; k < 5; ++k) {
+    Keyframe& kf = s.map.keyframes[size_t(k)];
+    int added = 0;
+    for (const auto& [id, pixel] : kf.observations) {
+      const Eigen::Vector3d p = s.truth[size_t(k)] * s.points.at(id);
+      const Eigen::Vector3d origin = camera.BackProject(pixel)->origin;
+      const bool bad = added < 2;
+      kf.range_constraints.push_back({id, (p - origin).norm() * (bad ? 1.3 : 1.0), 0.002});
+      wrong += bad;
+      if (++added == 10) break;
+    }
+  }
+  BundleAdjustmentOptions options;
+  options.max_iterations = 50;
+  options.max_solver_time_s = 10;
+  const BundleAdjustmentSummary summary = AdjustWindow(camera, options, &s.map);
+  EXPECT_EQ(summary.range_residuals, 50);
+  EXPECT_GE(summary.removed_range_constraints, wrong - 2);
+  EXPECT_LE(summary.removed_range_constraints, wrong);
+  int left_right = 0;
+  for (int k = 0; k < 5; ++k) {
+    const Keyframe& kf = s.map.keyframes[size_t(k)];
+    for (const RangeConstraint& r : kf.range_constraints) {
+      const Eigen::Vector3d p = s.truth[size_t(k)] * s.points.at(r.point_id);
+      const Eigen::Vector3d origin = camera.BackProject(kf.observations.at(r.point_id))->origin;
+      left_right += std::abs(r.range_m - (p - origin).norm()) < 1e-9;
+    }
+  }
+  EXPECT_EQ(left_right, 50 - wrong);
+  const double baseline = (s.map.keyframes[4].WorldFromCamera().translation -
+                           s.map.keyframes[0].WorldFromCamera().translation)
+                              .norm();
+  const double truth = (s.truth[4].Inverse().translation - s.truth[0].Inverse().translation).norm();
+  EXPECT_NEAR(baseline / truth, 1.0, 2e-3);
+}
+
 TEST(WindowedBundleAdjustment, ExtraResidualCallbackSeesTheWindow) {
   const Camera camera = DeepPortCamera();
   Synthetic s = MakeWindow(camera, 0.0, 9);
