@@ -40,6 +40,8 @@ void RegisterReconstructCommand(CLI::App& app) {
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
                    r.pose_source.c_str(), r.seconds, r.RealTimeFactor(), out->c_str());
     }
+    for (const std::string& warning : r.Warnings())
+      std::fprintf(stderr, "reconstruct: warning: %s\n", warning.c_str());
   });
 }
 

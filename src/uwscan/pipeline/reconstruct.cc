@@ -40,8 +40,58 @@ void ReconstructJob::Check() const {
   UWS_CHECK(!out.empty(), "--out: empty output folder name");
 }
 
+std::vector<std::string> ReconstructReport::Warnings() const {
+  std::vector<std::string> warnings;
+  const auto percent = [](double part, double whole) {
+    return std::to_string(static_cast<int>(std::lround(100.0 * part / std::max(whole, 1.0))));
+  };
+  if (frames > 0 && frames_with_line < 0.9 * frames) {
+    warnings.push_back("no laser line in " + percent(frames - frames_with_line, frames) +
+                       " % of the frames (turbid or dark water, the line out of view or too "
+                       "weak): those frames add nothing to the cloud");
+  }
+  if (frames_with_line > 0 && scan_lines > 0 &&
+      static_cast<double>(points) / frames_with_line < 0.5 * scan_lines) {
+    warnings.push_back("the profiles are short: " +
+                       std::to_string(points / std::max(frames_with_line, 1)) + " points per frame "
+                       "of " + std::to_string(scan_lines) + " scan lines (the line fades into "
+                       "the water or leaves the scene)");
+  }
+  if (frames_without_pose > 0) {
+    warnings.push_back(std::to_string(frames_without_pose) + " frame(s) (" +
+                       percent(frames_without_pose, frames) +
+                       " %) got no pose and are left out of the cloud (tracking not started or "
+                       "lost)");
+  }
+  const auto count = [&](const char* key) {
+    return pose_details.is_object() && pose_details.contains(key) &&
+                   pose_details[key].is_number_integer()
+               ? pose_details[key].get<int>()
+               : 0;
+  };
+  if (count("lost") > 0) {
+    warnings.push_back("visual tracking was lost " + std::to_string(count("lost")) +
+                       " time(s) and restarted (too few features: turbid water, no texture, "
+                       "fast motion)");
+  }
+  // A hover keeps its keyframe for many frames; a new one every few frames
+  // means the features do not last (low contrast), and the poses suffer.
+  if (count("tracked") >= 20 && count("keyframes") > 0.3 * count("tracked")) {
+    warnings.push_back("features are short-lived: a new keyframe in " +
+                       percent(count("keyframes"), count("tracked")) +
+                       " % of the tracked frames (low contrast: turbid water or a dark, bare "
+                       "scene); expect a less accurate trajectory");
+  }
+  if (count("implausible_poses_rejected") > 0) {
+    warnings.push_back(std::to_string(count("implausible_poses_rejected")) +
+                       " pose(s) moved faster than a vehicle can and were rejected");
+  }
+  return warnings;
+}
+
 nlohmann::json ReconstructReport::ToJson() const {
   return {{"frames", frames},
+          {"warnings", Warnings()},
           {"frames_with_line", frames_with_line},
           {"frames_without_pose", frames_without_pose},
           {"points", points},
@@ -97,6 +147,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
 
   ReconstructReport report;
   report.pose_source = provider->Name();
+  report.scan_lines = detector.scan_rows ? camera.height : camera.width;
   report.sequence_duration_s =
       frames.size() > 1
           ? frames.back().timestamp_s - frames.front().timestamp_s +
@@ -179,8 +230,16 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   place(provider->Finish());
   report.frames_without_pose = report.frames - frames_placed;
   progress.Finish();
-  UWS_CHECK(first_pose.has_value(), job.dataset.string(), ": no frame got a pose (",
-            provider->Name(), ")");
+  if (!first_pose) {
+    report.pose_details = provider->Details();
+    std::string why;
+    for (const std::string& warning : report.Warnings()) why += "\n  " + warning;
+    UWS_THROW(job.dataset.string(), ": no frame got a pose (", provider->Name(), ")",
+              report.frames_with_line == 0
+                  ? "; the self-referenced poses need the laser line to measure the scene"
+                  : "",
+              why);
+  }
   report.pose_details = provider->Details();
   cloud.Close();
   uncompensated.Close();

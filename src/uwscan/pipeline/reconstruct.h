@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "uwscan/fusion/pose_provider.h"
 #include "uwscan/fusion/self_referenced.h"
@@ -42,7 +43,12 @@ struct ReconstructReport {
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider
 
+  int scan_lines = 0;  // image rows (or columns) the detector scans: a full profile's points
   double RealTimeFactor() const { return seconds > 0 ? sequence_duration_s / seconds : 0.0; }
+  // What degraded the result and why, for the user (also in report.json):
+  // frames without a laser line, short profiles, frames without pose,
+  // tracking losses, rejected poses.
+  std::vector<std::string> Warnings() const;
   nlohmann::json ToJson() const;
 };
 

@@ -95,5 +95,36 @@ TEST_F(ReconstructTest, BadInputIsAClearErrorWithoutOutput) {
   EXPECT_FALSE(fs::exists(job.out / "cloud.ply"));
 }
 
+// The report says why a result degraded (turbid water: no line, short
+// profiles, short-lived features, losses), and nothing when all went well.
+TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
+  ReconstructReport good;
+  good.frames = 200;
+  good.frames_with_line = 200;
+  good.points = 200 * 400;
+  good.scan_lines = 480;
+  good.pose_details = {{"tracked", 200}, {"keyframes", 3}, {"lost", 0}};
+  EXPECT_TRUE(good.Warnings().empty());
+
+  ReconstructReport turbid = good;
+  turbid.frames_with_line = 104;
+  turbid.points = 104 * 13;
+  turbid.frames_without_pose = 1;
+  turbid.pose_details = {{"tracked", 199},
+                         {"keyframes", 199},
+                         {"lost", 1},
+                         {"implausible_poses_rejected", 1}};
+  const auto warnings = turbid.Warnings();
+  ASSERT_EQ(warnings.size(), 6u);
+  EXPECT_NE(warnings[0].find("no laser line in 48 %"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[1].find("13 points per frame of 480"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[2].find("1 frame(s)"), std::string::npos) << warnings[2];
+  EXPECT_NE(warnings[3].find("lost 1 time(s)"), std::string::npos) << warnings[3];
+  EXPECT_NE(warnings[4].find("short-lived"), std::string::npos) << warnings[4];
+  EXPECT_NE(warnings[5].find("rejected"), std::string::npos) << warnings[5];
+  const nlohmann::json json = turbid.ToJson();
+  EXPECT_EQ(json["warnings"].size(), 6u);
+}
+
 }  // namespace
 }  // namespace uwscan
