@@ -11,7 +11,8 @@ namespace {
 struct SimulateArgs {
   std::string scenario, out, turbidity, output;
   int frames = 0, width = 0, height = 0, bits = 0, threads = 2, motion_blur = 1, supersample = 1;
-  double marine_snow = 0;
+  double marine_snow = 0, painted_stripe = 0;
+  std::string stripe_colour = "white";
   uint64_t seed = 1;
   double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0,
          laser_tilt_deg = 5;
@@ -40,6 +41,8 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   options.motion_blur_samples = args.motion_blur;
   options.supersample = args.supersample;
   options.marine_snow_per_m3 = args.marine_snow;
+  options.painted_stripe_m = args.painted_stripe;
+  options.painted_stripe_colour = args.stripe_colour;
   try {
     if (given("--output")) options.output = sim::OutputFormatFromName(args.output);
     options.Check();
@@ -91,6 +94,12 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("--motion-blur", args->motion_blur, "poses averaged over the exposure (1 = off)")
       ->capture_default_str();
   cmd->add_option("--marine-snow", args->marine_snow, "marine snow particles per m^3 (0 = off)")
+      ->capture_default_str();
+  cmd->add_option("--painted-stripe", args->painted_stripe,
+                  "tank-target: width (m) of a painted stripe on the floor beside the target, "
+                  "parallel to the laser line (0 = none)")
+      ->capture_default_str();
+  cmd->add_option("--stripe-colour", args->stripe_colour, "white | yellow | green")
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "render threads")->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "no progress bar or summary");

@@ -64,7 +64,17 @@ Scenario TankTarget(const ScenarioOptions& options) {
   s.name = "tank-target";
   const int width = options.width.value_or(1280), height = options.height.value_or(960);
   AddThesisScanner(options, width, height, &s.config);
-  s.config.scene.surfaces.push_back(Floor(options.seed, 40.0));
+  Surface floor = Floor(options.seed, 40.0);
+  if (options.painted_stripe_m > 0) {
+    // Beside the target, inside the laser's sweep (x -0.15 .. 0.7 m), along y
+    // like the line. Paint albedos: white, road-marking yellow, green.
+    floor.texture.stripe_width_m = options.painted_stripe_m;
+    floor.texture.stripe_s_m = -0.05;
+    floor.texture.stripe_albedo = options.painted_stripe_colour == "green"    ? Eigen::Vector3d(0.08, 0.7, 0.15)
+                                  : options.painted_stripe_colour == "yellow" ? Eigen::Vector3d(0.85, 0.75, 0.1)
+                                                                              : Eigen::Vector3d(0.9, 0.9, 0.9);
+  }
+  s.config.scene.surfaces.push_back(floor);
   Surface board = Checkerboard("checkerboard", 14, 10, 0.03);
   board.world_from_surface =
       Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.25, 0.0, 0.005));
@@ -215,6 +225,11 @@ void ScenarioOptions::Check() const {
   UWS_CHECK(
       std::isfinite(marine_snow_per_m3) && marine_snow_per_m3 >= 0 && marine_snow_per_m3 <= 10000,
       "--marine-snow must be in [0, 10000] particles per m^3 (got ", marine_snow_per_m3, ")");
+  UWS_CHECK(std::isfinite(painted_stripe_m) && painted_stripe_m >= 0 && painted_stripe_m <= 0.5,
+            "--painted-stripe must be in [0, 0.5] m (got ", painted_stripe_m, ")");
+  UWS_CHECK(painted_stripe_colour == "white" || painted_stripe_colour == "yellow" ||
+                painted_stripe_colour == "green",
+            "--stripe-colour must be white, yellow or green (got '", painted_stripe_colour, "')");
 }
 
 double Scenario::ServoAngle(int frame) const {

@@ -39,6 +39,11 @@ struct ScenarioOptions {
   int motion_blur_samples = 1;    // poses averaged over the exposure
   int supersample = 1;            // camera rays per pixel (n x n)
   double marine_snow_per_m3 = 0;  // particles per cubic metre (0 = none)
+  // tank-target: a painted stripe on the floor beside the target, parallel
+  // to the laser line and inside its sweep (a marking or tape that may look
+  // like the line): width in metres (0 = none) and paint colour.
+  double painted_stripe_m = 0;
+  std::string painted_stripe_colour = "white";  // white | yellow | green
 
   void Check() const;  // throws uwscan::Error naming the option
 };

@@ -235,5 +235,36 @@ TEST(ScenarioTest, BadOptionsAreRejected) {
   EXPECT_THROW(MakeScenario("wreck", ScenarioOptions{}), UsageError);
 }
 
+// The painted stripe of tank-target: full paint on the stripe, a footprint
+// half on it gets half, none beside it; scene.yaml keeps it.
+TEST(ScenarioTest, PaintedStripeIsOnTheFloorAndInSceneYaml) {
+  ScenarioOptions options;
+  options.width = 64;
+  options.height = 48;
+  options.painted_stripe_m = 0.02;
+  options.painted_stripe_colour = "yellow";
+  const Scenario scenario = MakeScenario("tank-target", options);
+  const Texture& floor = scenario.config.scene.surfaces.at(0).texture;
+  ASSERT_EQ(floor.stripe_width_m, 0.02);
+  const double c = floor.stripe_s_m;
+  EXPECT_LT((floor.Albedo(c, 0.3, 0.001) - floor.stripe_albedo).norm(), 1e-12);
+  const Eigen::Vector3d beside = floor.Albedo(c + 0.05, 0.3, 0.004);
+  EXPECT_GT((beside - floor.stripe_albedo).norm(), 0.1);
+  // A 4 mm footprint centred on the stripe's edge: half paint.
+  const Eigen::Vector3d edge = floor.Albedo(c + 0.01, 0.3, 0.004);
+  const Eigen::Vector3d no_paint = [&] {
+    Texture plain = floor;
+    plain.stripe_width_m = 0.0;
+    return plain.Albedo(c + 0.01, 0.3, 0.004);
+  }();
+  EXPECT_LT((edge - 0.5 * (no_paint + floor.stripe_albedo)).norm(), 1e-9);
+  const std::string text = SceneToYaml(scenario);
+  EXPECT_NE(text.find("stripe: {width_m: 0.02"), std::string::npos);
+  const Scenario back = ParseSceneYaml(text, "scene.yaml", scenario.config.rig);
+  EXPECT_EQ(SceneToYaml(back), text);
+  options.painted_stripe_colour = "purple";
+  EXPECT_THROW(MakeScenario("tank-target", options), Error);
+}
+
 }  // namespace
 }  // namespace uwscan::sim

@@ -28,6 +28,11 @@ void WriteTexture(const Texture& t, std::ostream& out) {
       << "      octaves: " << t.octaves << "\n"
       << "      seed: " << t.seed << "\n"
       << "      squares: [" << t.squares_x << ", " << t.squares_y << "]\n";
+  if (t.stripe_width_m > 0.0) {
+    out << "      stripe: {width_m: " << YamlNumber(t.stripe_width_m)
+        << ", s_m: " << YamlNumber(t.stripe_s_m) << ", albedo: " << YamlVector(t.stripe_albedo)
+        << "}\n";
+  }
 }
 
 Texture ReadTexture(StrictMap map) {
@@ -44,6 +49,13 @@ Texture ReadTexture(StrictMap map) {
             "' must be a list of 2 integers");
   t.squares_x = squares[0].as<int>();
   t.squares_y = squares[1].as<int>();
+  if (map.Has("stripe")) {  // optional: a painted stripe
+    StrictMap stripe = map.Child("stripe");
+    t.stripe_width_m = stripe.Number("width_m");
+    t.stripe_s_m = stripe.Number("s_m");
+    t.stripe_albedo = stripe.Vector3("albedo");
+    stripe.CheckNoUnknownKeys();
+  }
   map.CheckNoUnknownKeys();
   return t;
 }

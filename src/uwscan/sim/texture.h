@@ -31,6 +31,11 @@ struct Texture {
   // light margin around it.
   int squares_x = 8;
   int squares_y = 6;
+  // A painted stripe over any texture (a marking, a tape): `stripe_width_m`
+  // wide (0 = none), centred at s = stripe_s_m, running along t.
+  double stripe_width_m = 0.0;
+  double stripe_s_m = 0.0;
+  Eigen::Vector3d stripe_albedo = Eigen::Vector3d(0.9, 0.9, 0.9);
 
   // Albedo at surface coordinates (s, t) in metres, averaged over a square
   // footprint of side `footprint_m`.
@@ -42,6 +47,7 @@ struct Texture {
   void Prepare();
 
  private:
+  Eigen::Vector3d BaseAlbedo(double s, double t, double footprint_m) const;
   struct Octave {
     double cos_angle, sin_angle, shift_u, shift_v, cell_m, amplitude;
     uint64_t seed;
