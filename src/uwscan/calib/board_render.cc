@@ -116,6 +116,16 @@ cv::Mat RenderBoardThroughCamera(const Camera& camera, const BoardSpec& board,
   return Degrade(image, options);
 }
 
+Camera RenderCamera(const BoardRenderOptions& options) {
+  Camera camera;
+  camera.model = CameraModelId::kPinhole;
+  camera.width = options.width;
+  camera.height = options.height;
+  camera.intrinsics = {options.focal_px, options.focal_px, (options.width - 1) / 2.0,
+                       (options.height - 1) / 2.0};
+  return camera;
+}
+
 cv::Mat RenderBoard(const BoardSpec& board, const Rigid3d& camera_from_board,
                     const BoardRenderOptions& options, std::vector<Eigen::Vector2d>* corners) {
   // Texture: (cols + 1) x (rows + 1) squares plus a white margin of one square.

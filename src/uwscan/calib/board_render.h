@@ -26,6 +26,10 @@ struct BoardRenderOptions {
   int supersample = 4;  // rendered at this factor and box-filtered down
 };
 
+// RenderBoard's camera as a rig camera: distortion-free pinhole, principal
+// point at the image centre.
+Camera RenderCamera(const BoardRenderOptions& options);
+
 // Renders the board at camera_from_board; `corners` gets the true corner
 // pixels in board order (OpenCV pixel-centre convention).
 cv::Mat RenderBoard(const BoardSpec& board, const Rigid3d& camera_from_board,

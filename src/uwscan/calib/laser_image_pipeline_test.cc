@@ -23,13 +23,7 @@ TEST(LaserImagePipeline, RenderedBoardsWithLaserLineGiveTheSheet) {
   BoardRenderOptions render;
   render.blur_sigma_px = 0.7;
   render.noise_sigma = 2.0;
-  // The renderer's camera as a rig camera (distortion-free pinhole).
-  Camera camera;
-  camera.model = CameraModelId::kPinhole;
-  camera.width = render.width;
-  camera.height = render.height;
-  camera.intrinsics = {render.focal_px, render.focal_px, (render.width - 1) / 2.0,
-                       (render.height - 1) / 2.0};
+  const Camera camera = RenderCamera(render);
   // Sheet: laser 0.15 m to the right, toed in by 15 deg, line vertical.
   const double toe = 15.0 * M_PI / 180.0;
   const Eigen::Vector3d laser_centre(0.15, 0.0, 0.0);

@@ -24,12 +24,7 @@ TEST(LaserPoints, FindsTheGreenLineOnTheTargetOnly) {
   render.white = 180.0;  // + the line's 60: no saturation
   std::vector<Eigen::Vector2d> corners;
   const cv::Mat gray = RenderBoard(board, pose, render, &corners);
-  Camera camera;
-  camera.model = CameraModelId::kPinhole;
-  camera.width = render.width;
-  camera.height = render.height;
-  camera.intrinsics = {render.focal_px, render.focal_px, (render.width - 1) / 2.0,
-                       (render.height - 1) / 2.0};
+  const Camera camera = RenderCamera(render);
   // The camera reproduces the renderer's corners.
   const auto first = camera.Project(pose * board.Corners()[0]);
   ASSERT_TRUE(first.has_value());
