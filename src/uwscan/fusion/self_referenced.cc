@@ -91,8 +91,8 @@ void SelfReferencedPoseProvider::ChooseTrackedImage(const cv::Mat& frame) {
   if (tracking_halvings_ > 0 && frame.channels() == 1)
     bayer_offset_ = BayerSampleOffset(camera_.bayer, passive_rgb);
   if (bayer_offset_) {
-    // Half-resolution pixel x is full-resolution pixel 2 x + offset; later
-    // halvings average 2x2 blocks (pixel centres scale about -0.5).
+    // Half-resolution pixel x is full-resolution pixel 2 x + offset; further
+    // halving averages 2x2 blocks (pixel centres scale about -0.5).
     Camera half = camera_;
     half.width /= 2;
     half.height /= 2;
@@ -126,8 +126,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   } else {
     passive = PassiveImage(frame.image, camera_.bayer, laser_channel_);
   }
-  for (int i = 0; i < halvings; ++i)
-    cv::resize(passive, passive, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  const cv::Size tracked(tracking_camera_.width, tracking_camera_.height);
+  if (halvings > 0) cv::resize(passive, passive, tracked, 0, 0, cv::INTER_AREA);
   held.input.image = NormalizeIllumination(
       passive, options_.illumination_sigma_fraction * tracking_camera_.width);
   held.input.detection = nullptr;
@@ -136,9 +136,9 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
     const int d = options_.mask_dilation_px;
     cv::dilate(frame.detection->mask, held.mask,
                cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
-    for (int i = 0; i < tracking_halvings_; ++i) {
+    if (tracking_halvings_ > 0) {
       // A tracked pixel is masked if any of its full-resolution pixels is.
-      cv::resize(held.mask, held.mask, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+      cv::resize(held.mask, held.mask, tracked, 0, 0, cv::INTER_AREA);
       cv::threshold(held.mask, held.mask, 0, 255, cv::THRESH_BINARY);
     }
   }

@@ -16,9 +16,14 @@ namespace fs = std::filesystem;
 // End to end on a short simulated hover over the tank target: the
 // self-referenced poses must place the laser profiles clearly better than no
 // compensation, checked against the simulator's truth.
-TEST(SelfReferenced, CompensatesHoverMotion) {
-  const fs::path root =
-      fs::temp_directory_path() / ("uwscan_fusion_test_" + std::to_string(::getpid()));
+// Also with the odometry on a half-size image (the path taken at
+// 1280x960 by default): the red samples of the raw mosaic at half size.
+class SelfReferencedHover : public ::testing::TestWithParam<int> {};
+
+TEST_P(SelfReferencedHover, CompensatesHoverMotion) {
+  const fs::path root = fs::temp_directory_path() /
+                        ("uwscan_fusion_test_" + std::to_string(::getpid()) + "_" +
+                         std::to_string(GetParam()));
   fs::remove_all(root);
   sim::ScenarioOptions options;
   options.width = 480;
@@ -30,7 +35,10 @@ TEST(SelfReferenced, CompensatesHoverMotion) {
   job.dataset = root / "data";
   job.out = root / "out";
   job.quiet = true;
+  job.self_referenced.max_tracking_width = GetParam();
   const ReconstructReport report = RunReconstruct(job);
+  EXPECT_EQ(report.pose_details["tracked_image_width"].get<int>(),
+            GetParam() == 0 ? 480 : GetParam());
   EXPECT_EQ(report.pose_source, "self-referenced visual odometry");
   EXPECT_LT(report.frames_without_pose, 20);
   const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
@@ -42,6 +50,25 @@ TEST(SelfReferenced, CompensatesHoverMotion) {
   ASSERT_TRUE(floor_c && floor_u);
   EXPECT_LT(floor_c->distance_error_mean_pct, 0.5 * floor_u->distance_error_mean_pct);
   fs::remove_all(root);
+}
+
+INSTANTIATE_TEST_SUITE_P(TrackedWidth, SelfReferencedHover, ::testing::Values(0, 240));
+
+TEST(SelfReferenced, BayerSamplesOfTheLedColour) {
+  using P = SelfReferencedPoseProvider;
+  EXPECT_EQ(P::BayerSampleOffset("rggb", laser::kRed), cv::Point(0, 0));
+  EXPECT_EQ(P::BayerSampleOffset("bggr", laser::kRed), cv::Point(1, 1));
+  EXPECT_EQ(P::BayerSampleOffset("grbg", laser::kRed), cv::Point(1, 0));
+  EXPECT_EQ(P::BayerSampleOffset("gbrg", laser::kRed), cv::Point(0, 1));
+  EXPECT_EQ(P::BayerSampleOffset("rggb", laser::kBlue), cv::Point(1, 1));
+  EXPECT_FALSE(P::BayerSampleOffset("rggb", laser::kGreen).has_value());
+  EXPECT_FALSE(P::BayerSampleOffset("none", laser::kRed).has_value());
+  cv::Mat mosaic(4, 6, CV_16U);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 6; ++c) mosaic.at<uint16_t>(r, c) = static_cast<uint16_t>(100 * r + c);
+  const cv::Mat red = P::BayerChannel(mosaic, cv::Point(1, 0));  // grbg
+  ASSERT_EQ(red.size(), cv::Size(3, 2));
+  EXPECT_EQ(red.at<uint16_t>(1, 2), 100 * 2 + 5);
 }
 
 TEST(SelfReferenced, PassiveImageAvoidsTheLaserColour) {
