@@ -341,7 +341,7 @@ TEST(AquariumScenarioCalibration, CornerNoiseWithinCovariance) {
 }
 
 // Precision of d_air over seeds (for docs/BENCHMARKS.md; not run by CTest):
-//   build/tests/calib_camera_calibration_test --gtest_also_run_disabled_tests \
+//   build/tests/calib_camera_calibration_test --gtest_also_run_disabled_tests
 //     --gtest_filter='*DISABLED_GapPrecisionOverSeeds'
 TEST(AquariumScenarioCalibration, DISABLED_GapPrecisionOverSeeds) {
   for (int views : {10, 20, 40}) {
