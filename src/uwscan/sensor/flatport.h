@@ -168,7 +168,7 @@ struct FlatPortModel {
                                      const T* port, const T* point, const T* start_pixel,
                                      int iterations, T* pixel,
                                      TaylorVariant variant = TaylorVariant::kCentred) {
-    T start[2];
+    T start[2] = {T(0.0), T(0.0)};
     if (!PinholeModel::ImageToNormalized(intrinsics, distortion, start_pixel[0], start_pixel[1],
                                          &start[0], &start[1])) {
       return false;

@@ -95,7 +95,7 @@ double WorstTaylorError(const Camera& camera, double depth, int iterations, Tayl
     for (int u = 0; u <= camera.width; u += step) {
       const Eigen::Vector2d pixel(u - 0.5, v - 0.5);
       const Eigen::Vector3d point = PointAtDepth(*camera.BackProject(pixel), depth);
-      double start[2], projected[2];
+      double start[2] = {0.0, 0.0}, projected[2] = {0.0, 0.0};
       EXPECT_TRUE(
           FlatPortModel::PinholeStart(camera.port.normal.data(), port.data(), point.data(), start));
       EXPECT_TRUE(FlatPortModel::ProjectTaylor(camera.intrinsics.data(), camera.distortion.data(),
