@@ -13,6 +13,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   auto poses = std::make_shared<std::string>();
   auto no_compensation = std::make_shared<bool>(false);
+  auto keep_static = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "reconstruct",
       "Motion-compensated point cloud from a dataset: cloud.ply, cloud_uncompensated.ply, "
@@ -26,12 +27,16 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--camera", job->camera_name, "camera name (default: the first)");
   cmd->add_option("--laser", job->laser_name, "laser name (default: the first)");
   cmd->add_option("--max-frames", job->max_frames, "process only the first N frames");
+  cmd->add_flag("--keep-static-detections", *keep_static,
+                "servo scans: keep line detections that stay put while the laser sweeps "
+                "(removed by default: a painted stripe or reflection, thesis §5.5)");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
   cmd->callback([=] {
     job->dataset = *dataset;
     job->out = *out;
     if (!poses->empty()) job->poses_file = *poses;
     job->motion_compensation = !*no_compensation;
+    job->sweep_filter = !*keep_static;
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
       std::fprintf(stderr,

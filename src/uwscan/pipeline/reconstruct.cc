@@ -14,6 +14,7 @@
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
 #include "uwscan/laser/profile.h"
+#include "uwscan/laser/sweep_filter.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
@@ -82,6 +83,13 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the tracked frames (low contrast: turbid water or a dark, bare "
                        "scene); expect a less accurate trajectory");
   }
+  if (static_detections_removed > 0) {
+    warnings.push_back(std::to_string(static_detections_removed) + " line detection(s) in " +
+                       std::to_string(frames_with_static_detections) +
+                       " frame(s) stayed put while the laser swept (a stripe or a reflection in "
+                       "the scene taken for the line, or a surface the sheet grazes): removed "
+                       "(--keep-static-detections keeps them)");
+  }
   if (count("implausible_poses_rejected") > 0) {
     warnings.push_back(std::to_string(count("implausible_poses_rejected")) +
                        " pose(s) moved faster than a vehicle can and were rejected");
@@ -97,6 +105,7 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"points", points},
           {"points_uncompensated", points_uncompensated},
           {"triangulation_failures", triangulation_failures},
+          {"static_detections_removed", static_detections_removed},
           {"pose_source", pose_source},
           {"pose", pose_details},
           {"timing_s",
@@ -148,6 +157,13 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   ReconstructReport report;
   report.pose_source = provider->Name();
   report.scan_lines = detector.scan_rows ? camera.height : camera.width;
+  std::optional<laser::SweepFilter> sweep_filter;
+  if (job.sweep_filter) {
+    laser::SweepFilterOptions sweep;
+    sweep.scan_rows = detector.scan_rows;
+    sweep.focal_px = detector.scan_rows ? camera.intrinsics[0] : camera.intrinsics[1];
+    sweep_filter.emplace(sweep);
+  }
   report.sequence_duration_s =
       frames.size() > 1
           ? frames.back().timestamp_s - frames.front().timestamp_s +
@@ -204,12 +220,19 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     t = std::chrono::steady_clock::now();
     const auto layout = laser::LayoutFor(camera.bayer, image.channels());
     const laser::Detection detection = laser::DetectLaserLine(image, layout, detector);
+    std::vector<laser::LaserPoint> line_points = detection.points;
+    if (sweep_filter && record.laser_angle_rad) {
+      int removed = 0;
+      line_points = sweep_filter->Filter(record.index, *record.laser_angle_rad, line_points, &removed);
+      report.static_detections_removed += removed;
+      report.frames_with_static_detections += removed > 0;
+    }
     report.seconds_detect += Seconds(t);
 
     t = std::chrono::steady_clock::now();
     const double angle = record.laser_angle_rad.value_or(0.0);
     laser::Profile profile = laser::TriangulateProfile(
-        camera, laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), detection.points,
+        camera, laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), line_points,
         record.index);
     report.triangulation_failures += profile.failed;
     report.seconds_triangulate += Seconds(t);

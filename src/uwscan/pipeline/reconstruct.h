@@ -25,6 +25,9 @@ struct ReconstructJob {
   std::string laser_name;           // default: the first laser
   laser::DetectorOptions detector;  // scan direction and colour come from the rig
   fusion::SelfReferencedOptions self_referenced;
+  // Servo datasets: drop line detections that stay put while the sheet
+  // sweeps (laser/sweep_filter.h, thesis §5.5).
+  bool sweep_filter = true;
   int max_frames = 0;  // 0: all
   bool quiet = false;
   void Check() const;
@@ -37,6 +40,8 @@ struct ReconstructReport {
   long points = 0;
   long points_uncompensated = 0;
   long triangulation_failures = 0;
+  long static_detections_removed = 0;  // by the sweep filter
+  int frames_with_static_detections = 0;
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   double sequence_duration_s = 0.0;  // from the frame timestamps
