@@ -1,6 +1,8 @@
 #include "uwscan/laser/sweep_filter.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "uwscan/util/error.h"
 
@@ -11,6 +13,13 @@ void SweepFilterOptions::Check() const {
                 static_tolerance_px >= 0.0 && restore_fraction > 0.0 && restore_fraction <= 1.0 &&
                 line_search >= 0,
             "sweep filter: invalid options");
+}
+
+float SweepFilter::Past::At(int line) const {
+  const int i = line - first_line;
+  return i >= 0 && i < static_cast<int>(position_by_line.size())
+             ? position_by_line[static_cast<size_t>(i)]
+             : std::numeric_limits<float>::quiet_NaN();
 }
 
 SweepFilter::SweepFilter(const SweepFilterOptions& options) : options_(options) {
@@ -33,8 +42,16 @@ std::vector<LaserPoint> SweepFilter::Filter(int frame, double servo_angle_rad,
     if (shift >= options_.min_expected_shift_px)
       references.emplace_back(&past, std::max(options_.static_tolerance_px, 0.25 * shift));
   }
-  Past now{frame, servo_angle_rad, {}};
-  for (const LaserPoint& p : points) now.position_by_line[line_of(p)] = across(p);
+  Past now{frame, servo_angle_rad, 0, {}};
+  if (!points.empty()) {
+    int lo = line_of(points.front()), hi = lo;
+    for (const LaserPoint& p : points) lo = std::min(lo, line_of(p)), hi = std::max(hi, line_of(p));
+    now.first_line = lo;
+    now.position_by_line.assign(static_cast<size_t>(hi - lo + 1),
+                                std::numeric_limits<float>::quiet_NaN());
+    for (const LaserPoint& p : points)
+      now.position_by_line[static_cast<size_t>(line_of(p) - lo)] = static_cast<float>(across(p));
+  }
   std::vector<LaserPoint> kept;
   for (const LaserPoint& p : points) {
     // Found at the same place (neighbouring scan lines too: a stripe is not
@@ -43,8 +60,7 @@ std::vector<LaserPoint> SweepFilter::Filter(int frame, double servo_angle_rad,
     for (const auto& [past, tolerance] : references) {
       for (int line = line_of(p) - options_.line_search;
            line <= line_of(p) + options_.line_search && !stayed; ++line) {
-        const auto then = past->position_by_line.find(line);
-        stayed = then != past->position_by_line.end() && std::abs(then->second - across(p)) <= tolerance;
+        stayed = std::abs(past->At(line) - across(p)) <= tolerance;  // false for NaN
       }
       if (stayed) break;
     }

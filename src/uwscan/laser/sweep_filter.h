@@ -12,7 +12,6 @@
 #pragma once
 
 #include <deque>
-#include <unordered_map>
 #include <vector>
 
 #include "uwscan/laser/detector.h"
@@ -42,7 +41,10 @@ class SweepFilter {
   struct Past {
     int frame;
     double angle_rad;
-    std::unordered_map<int, double> position_by_line;  // scan line -> across-line position
+    // Across-line position per scan line (NaN: none), offset by first_line.
+    int first_line = 0;
+    std::vector<float> position_by_line;
+    float At(int line) const;
   };
   SweepFilterOptions options_;
   std::deque<Past> history_;
