@@ -90,6 +90,9 @@ for tilt in 0 6; do
     }' "$TMP/stdout" || fail "$(awk '/^laser laser0/' "$TMP/stdout") truth p1 $truth_p1"
 done
 
+# --air-without-port without water images.
+expect 2 "air-without-port needs" -- "$UWSCAN" calibrate camera --images "$TMP" --board 9x6:0.025 \
+  --model flatport --glass 1.5,0.01 --air-without-port --out "$TMP/bad.yaml"
 # No such folder; bad board text.
 expect 1 "not a directory" -- "$UWSCAN" calibrate camera --images "$TMP/none" --board 9x6:0.025 \
   --out "$TMP/bad.yaml"

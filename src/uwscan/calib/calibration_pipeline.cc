@@ -51,6 +51,10 @@ void CameraPipelineOptions::Check() const {
   if (model == CameraModelId::kPinhole && !water.empty()) {
     throw UsageError("water images need the flat-port model");
   }
+  if (air_without_port && (model != CameraModelId::kFlatPort || water.empty())) {
+    throw UsageError("--air-without-port needs --model flatport and --water images: the port is "
+                     "seen only through the water");
+  }
   UWS_CHECK(n_glass >= 1.0 && n_glass < 3.0, "glass index must be in [1, 3), got ", n_glass);
   UWS_CHECK(d_glass > 0.0 && d_glass < 0.2, "glass thickness must be in (0, 0.2) m, got ", d_glass);
   UWS_CHECK(n_water >= 1.0 && n_water < 2.0, "water index must be in [1, 2), got ", n_water);
