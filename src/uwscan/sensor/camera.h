@@ -40,6 +40,10 @@ struct Ray {
   Eigen::Vector3d origin;
   Eigen::Vector3d direction;
   Eigen::Vector3d At(double lambda) const { return origin + lambda * direction; }
+  // The ray in frame a, given in frame b.
+  Ray Transformed(const Rigid3d& a_from_b) const {
+    return {a_from_b * origin, a_from_b.rotation * direction};
+  }
 };
 
 struct Camera {

@@ -33,10 +33,6 @@ double Median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-Ray ToWorld(const Rigid3d& world_from_camera, const Ray& ray) {
-  return {world_from_camera * ray.origin, world_from_camera.rotation * ray.direction};
-}
-
 }  // namespace
 
 const char* FrameStatusName(FrameStatus status) {
@@ -197,7 +193,7 @@ std::optional<SparseMap> Odometry::BuildTwoViewMap(const RelativePoseResult& rel
   std::vector<double> angles, depths;
   for (size_t i = 0; i < ids.size(); ++i) {
     if (!relative.inliers[i]) continue;
-    const std::vector<Ray> rays = {rays1[i], ToWorld(world_from_kf1, rays2[i])};
+    const std::vector<Ray> rays = {rays1[i], rays2[i].Transformed(world_from_kf1)};
     const auto point = TriangulateRays(rays);
     const double angle = MaxRayAngle(rays);
     if (!point || angle < 0.5 * min_angle) continue;
@@ -461,7 +457,7 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
       if (obs == kf_k.observations.end()) continue;
       const auto ray = camera_.BackProject(obs->second);
       if (!ray) continue;
-      rays.push_back(ToWorld(kf_k.WorldFromCamera(), *ray));
+      rays.push_back(ray->Transformed(kf_k.WorldFromCamera()));
       seen_by.push_back(&kf_k);
     }
     if (rays.size() < 2 || MaxRayAngle(rays) < min_angle) continue;
@@ -511,106 +507,6 @@ void Odometry::PruneMap() {
   }
   for (auto it = extrapolated_points_.begin(); it != extrapolated_points_.end();)
     it = map_.points.count(*it) ? std::next(it) : extrapolated_points_.erase(it);
-}
-
-}  // namespace uwscan::vo
-
-namespace uwscan::vo {
-
-int Odometry::AddSurfacePoints(Keyframe* keyframe) {
-  const Rigid3d world_from_camera = keyframe->WorldFromCamera();
-  int added = 0;
-  for (const auto& [id, pixel] : keyframe->observations) {
-    const auto existing = map_.points.find(id);
-    const bool remeasure = existing != map_.points.end() && extrapolated_points_.count(id) > 0;
-    if (existing != map_.points.end() && !remeasure) continue;
-    const auto ray = camera_.BackProject(pixel);
-    if (!ray) continue;
-    const Ray world = ToWorld(world_from_camera, *ray);
-    const auto hit = options_.surface(world.origin, world.direction);
-    if (!hit) continue;
-    if (remeasure) {
-      if (hit->extrapolated) continue;  // still not swept
-      // Measured now. A point far from the measurement sat on the wrong
-      // surface (e.g. a shaft in front of the extrapolated hull): move it and
-      // drop the constraints that held it there.
-      extrapolated_points_.erase(id);
-      const double range = (existing->second.position_world - world.origin).norm();
-      const double measured = (hit->point_world - world.origin).norm();
-      if (std::abs(range - measured) > 3.0 * hit->sigma_m) {
-        existing->second.position_world = hit->point_world;
-        for (Keyframe& kf : map_.keyframes) {
-          auto& ranges = kf.range_constraints;
-          ranges.erase(std::remove_if(ranges.begin(), ranges.end(),
-                                      [id = id](const RangeConstraint& r) { return r.point_id == id; }),
-                       ranges.end());
-        }
-        ++remeasured_moved_;
-      }
-    } else {
-      map_.points[id] = {id, hit->point_world, 1};
-      if (hit->extrapolated) extrapolated_points_.insert(id);
-    }
-    keyframe->range_constraints.push_back(
-        {id, (hit->point_world - world.origin).norm(), hit->sigma_m});
-    ++added;
-  }
-  return added;
-}
-
-FrameResult Odometry::InitializeFromSurface(const cv::Mat& image, const cv::Mat& mask,
-                                            double timestamp_s, const Rigid3d& world_from_camera) {
-  UWS_CHECK(static_cast<bool>(options_.surface), "vo: InitializeFromSurface needs options.surface");
-  const auto start = Clock::now();
-  FrameResult result;
-  result.frame_index = frame_count_++;
-  result.timestamp_s = timestamp_s;
-  result.status = FrameStatus::kInitializing;
-  const cv::Mat gray = ToGray8(image);
-  if (gray.empty() || gray.cols != camera_.width || gray.rows != camera_.height) {
-    result.status = FrameStatus::kInvalid;
-    result.message = "invalid image for initialisation";
-    return result;
-  }
-  UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
-            "vo: mask must be empty or CV_8U of the image size");
-  timestamp_s_ = timestamp_s;
-  tracker_.Reset();
-  result.tracking = tracker_.Track(gray, mask);
-  tracker_.Detect(mask, &result.tracking);
-  tracker_.SetAnchor();
-  SparseMap previous = std::move(map_);
-  map_.Clear();
-  Keyframe keyframe;
-  keyframe.id = next_keyframe_id_;
-  keyframe.frame_index = result.frame_index;
-  keyframe.timestamp_s = timestamp_s;
-  keyframe.camera_from_world = world_from_camera.Inverse();
-  for (const auto& t : tracker_.tracks()) keyframe.observations[t.id] = t.pixel;
-  const int points = AddSurfacePoints(&keyframe);
-  if (points < options_.min_pnp_inliers) {
-    map_ = std::move(previous);
-    result.message = "surface initialisation: " + std::to_string(points) +
-                     " features with a measured depth (need " +
-                     std::to_string(options_.min_pnp_inliers) + ")";
-    result.total_time_s = Seconds(start);
-    return result;
-  }
-  map_.keyframes.push_back(std::move(keyframe));
-  ++next_keyframe_id_;
-  ++num_maps_;
-  state_ = State::kTracking;
-  reference_.reset();
-  result.status = FrameStatus::kTracked;
-  result.message = "initialised from the measured surface";
-  result.keyframe = true;
-  result.world_from_camera = world_from_camera;
-  result.map_matches = result.inliers = points;
-  last_keyframe_inliers_ = points;
-  last_camera_from_world_ = world_from_camera.Inverse();
-  last_median_depth_ = MedianDepth(map_.keyframes.back());
-  result.total_time_s = Seconds(start);
-  return result;
 }
 
 }  // namespace uwscan::vo
