@@ -16,26 +16,6 @@
 namespace uwscan {
 namespace {
 
-// Thesis §6.1 aquarium: camera (Pin-Air-like intrinsics) behind a 6 mm
-// window (n_glass 1.52), fresh water 1.333.
-Camera AquariumCamera(double d_air_m, double tilt_deg) {
-  Camera camera;
-  camera.name = "cam0";
-  camera.width = 1280;
-  camera.height = 960;
-  camera.model = CameraModelId::kFlatPort;
-  camera.intrinsics = {1112.70, 1112.58, 625.64, 443.93};
-  camera.distortion = {-0.0489, 0.1037, 0.0005, -0.0003, 0.0};
-  const double tilt = tilt_deg * M_PI / 180.0;
-  camera.port.normal = Eigen::Vector3d(std::sin(tilt), 0.0, std::cos(tilt));
-  camera.port.d_air = d_air_m;
-  camera.port.d_glass = 0.006;
-  camera.port.n_air = 1.0;
-  camera.port.n_glass = 1.52;
-  camera.port.n_water = 1.333;
-  return camera;
-}
-
 const BoardSpec kBoard{11, 8, 0.025};
 
 struct AquariumRun {
@@ -123,7 +103,7 @@ void ExpectAquariumRecovered(const Camera& truth, const AquariumRun& run, double
 
 TEST(AquariumCalibration, NoiseFreeRecoversPortExactly) {
   for (double d_air : {0.001, 0.010, 0.020}) {
-    const Camera truth = AquariumCamera(d_air, d_air == 0.020 ? 4.0 : 0.0);
+    const Camera truth = AquariumTestCamera(d_air, d_air == 0.020 ? 4.0 : 0.0);
     const AquariumRun run = RunAquarium(truth, 0.0, 7);
     ExpectAquariumRecovered(truth, run, 0.0, 1e-6, 1e-4);
     EXPECT_NEAR(run.joint.camera.intrinsics[0], truth.intrinsics[0], 1e-3);
@@ -136,7 +116,7 @@ TEST(AquariumCalibration, WithCornerNoiseWithinThesisTolerances) {
   const std::pair<double, double> setups[] = {
       {0.001, 0.0}, {0.010, 0.0}, {0.020, 0.0}, {0.020, 4.0}};
   for (const auto& [d_air, tilt] : setups) {
-    const Camera truth = AquariumCamera(d_air, tilt);
+    const Camera truth = AquariumTestCamera(d_air, tilt);
     const AquariumRun run = RunAquarium(truth, 0.1, 11);
     ExpectAquariumRecovered(truth, run, 0.1, 3e-4, 0.2);
   }
@@ -149,7 +129,7 @@ namespace uwscan {
 namespace {
 
 TEST(CameraCalibration, OutlierLoopDropsCorruptedViewWithReason) {
-  const Camera truth = AquariumCamera(0.010, 0.0);
+  const Camera truth = AquariumTestCamera(0.010, 0.0);
   Camera air_truth = truth;
   air_truth.port.n_water = 1.0;
   SyntheticViewOptions views;
@@ -182,14 +162,14 @@ TEST(CameraCalibration, OutlierLoopDropsCorruptedViewWithReason) {
 TEST(CameraCalibration, TooFewViewsIsAnError) {
   SyntheticViewOptions views;
   views.num_views = 2;
-  const CornerSet set = SyntheticCornerSet(AquariumCamera(0.01, 0.0), kBoard, views);
+  const CornerSet set = SyntheticCornerSet(AquariumTestCamera(0.01, 0.0), kBoard, views);
   EXPECT_THROW(CalibratePinhole(set, Camera(), CameraCalibrationOptions()), Error);
 }
 
 // The thesis's residual (Taylor centred at the measured corner, §4.4) and
 // the exact one give the same port; the water index can be estimated.
 TEST(CameraCalibration, TaylorResidualAndWaterIndexEstimation) {
-  const Camera truth = AquariumCamera(0.020, 4.0);
+  const Camera truth = AquariumTestCamera(0.020, 4.0);
   Camera air_truth = truth;
   air_truth.port.n_water = 1.0;
   SyntheticViewOptions views;

@@ -11,22 +11,6 @@
 namespace uwscan {
 namespace {
 
-Camera TruthCamera(double d_air, double tilt_deg) {
-  Camera camera;
-  camera.width = 1280;
-  camera.height = 960;
-  camera.model = CameraModelId::kFlatPort;
-  camera.intrinsics = {1112.70, 1112.58, 625.64, 443.93};
-  camera.distortion = {-0.0489, 0.1037, 0.0005, -0.0003, 0.0};
-  const double tilt = tilt_deg * M_PI / 180.0;
-  camera.port.normal = Eigen::Vector3d(std::sin(tilt), 0.0, std::cos(tilt));
-  camera.port.d_air = d_air;
-  camera.port.d_glass = 0.006;
-  camera.port.n_glass = 1.52;
-  camera.port.n_water = 1.333;
-  return camera;
-}
-
 // Mean over boards of the pose-fitted re-projection RMS: how well a model
 // explains corners at that range, whatever pose it needs.
 double FittedRms(const Camera& model, const CornerSet& check) {
@@ -41,7 +25,7 @@ double FittedRms(const Camera& model, const CornerSet& check) {
 
 TEST(RangeExtrapolation, FlatPortBeatsUnderwaterPinholeAtThreeMetres) {
   for (double tilt : {0.0, 4.0}) {
-    const Camera truth = TruthCamera(0.020, tilt);
+    const Camera truth = AquariumTestCamera(0.020, tilt);
     Camera air_truth = truth;
     air_truth.port.n_water = 1.0;
     SyntheticViewOptions air_views;

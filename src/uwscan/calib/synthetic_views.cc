@@ -69,4 +69,22 @@ CornerSet SyntheticCornerSet(const Camera& truth, const BoardSpec& board,
   return set;
 }
 
+Camera AquariumTestCamera(double d_air_m, double tilt_deg) {
+  Camera camera;
+  camera.name = "cam0";
+  camera.width = 1280;
+  camera.height = 960;
+  camera.model = CameraModelId::kFlatPort;
+  camera.intrinsics = {1112.70, 1112.58, 625.64, 443.93};
+  camera.distortion = {-0.0489, 0.1037, 0.0005, -0.0003, 0.0};
+  const double tilt = tilt_deg * M_PI / 180.0;
+  camera.port.normal = Eigen::Vector3d(std::sin(tilt), 0.0, std::cos(tilt));
+  camera.port.d_air = d_air_m;
+  camera.port.d_glass = 0.006;
+  camera.port.n_air = 1.0;
+  camera.port.n_glass = 1.52;
+  camera.port.n_water = 1.333;
+  return camera;
+}
+
 }  // namespace uwscan

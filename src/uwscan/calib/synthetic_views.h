@@ -29,6 +29,11 @@ CornerSet SyntheticCornerSet(const Camera& truth, const BoardSpec& board,
                              const SyntheticViewOptions& options,
                              std::vector<Rigid3d>* camera_from_board = nullptr);
 
+// The test camera of the aquarium set-up (thesis §6.1): Pin-Air-like
+// intrinsics (1280x960, f 1112.7 px) behind a 6 mm window (n 1.52), fresh
+// water 1.333, the window `d_air_m` from the centre and tilted about y.
+Camera AquariumTestCamera(double d_air_m, double tilt_deg);
+
 // Exact projections of board corners at a given pose; false if any corner
 // does not project inside the image.
 bool ProjectBoard(const Camera& camera, const BoardSpec& board, const Rigid3d& camera_from_board,
