@@ -8,15 +8,10 @@
 
 #include "uwscan/calib/board_pose.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/statistics.h"
 
 namespace uwscan {
 namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
 
 std::string Format(double value, int precision = 3) {
   std::ostringstream out;

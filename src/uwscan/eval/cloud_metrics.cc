@@ -8,21 +8,10 @@
 
 #include "uwscan/geometry/fits.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/statistics.h"
 
 namespace uwscan {
 namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
-double Rms(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (double v : values) sum += v * v;
-  return values.empty() ? 0.0 : std::sqrt(sum / values.size());
-}
 
 // Relative distance errors between random pairs of points at least 5 cm
 // apart (true distance), in percent.

@@ -11,6 +11,7 @@
 #include <unordered_set>
 
 #include "uwscan/util/error.h"
+#include "uwscan/util/statistics.h"
 #include "uwscan/vo/cost_functions.h"
 
 namespace uwscan::vo {
@@ -25,12 +26,6 @@ double ThreadCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
 }
 
 }  // namespace
