@@ -2,12 +2,11 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
-#include <set>
 #include <sstream>
 
+#include "uwscan/io/strict_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 
@@ -16,81 +15,8 @@ namespace {
 
 constexpr const char* kFormat = "uwscan-rig/1";
 
-// A mapping whose keys are checked: every key must be known and read.
-class Map {
- public:
-  Map(const YAML::Node& node, std::string where, std::string source)
-      : node_(node), where_(std::move(where)), source_(std::move(source)) {
-    UWS_CHECK(node_.IsMap(), source_, ": ", Name(""), " must be a mapping");
-  }
-
-  std::string Name(const std::string& key) const {
-    if (where_.empty()) return key;
-    return key.empty() ? where_ : where_ + "." + key;
-  }
-
-  YAML::Node Get(const std::string& key) {
-    seen_.insert(key);
-    const YAML::Node value = node_[key];
-    UWS_CHECK(value.IsDefined() && !value.IsNull(), source_, ": missing key '", Name(key), "'");
-    return value;
-  }
-  bool Has(const std::string& key) const { return node_[key].IsDefined(); }
-
-  double Number(const std::string& key) { return ToNumber(Get(key), Name(key)); }
-  int Integer(const std::string& key) {
-    const double value = Number(key);
-    UWS_CHECK(value == std::floor(value) && std::abs(value) < 1e9, source_, ": '", Name(key),
-              "' must be an integer");
-    return static_cast<int>(value);
-  }
-  std::string String(const std::string& key) {
-    const YAML::Node value = Get(key);
-    UWS_CHECK(value.IsScalar(), source_, ": '", Name(key), "' must be a scalar");
-    return value.Scalar();
-  }
-  template <size_t N>
-  std::array<double, N> Vector(const std::string& key) {
-    const YAML::Node value = Get(key);
-    UWS_CHECK(value.IsSequence() && value.size() == N, source_, ": '", Name(key),
-              "' must be a list of ", N, " numbers");
-    std::array<double, N> result;
-    for (size_t i = 0; i < N; ++i) {
-      result[i] = ToNumber(value[i], Name(key) + "[" + std::to_string(i) + "]");
-    }
-    return result;
-  }
-
-  // Throws on the first key that was never asked for.
-  void CheckNoUnknownKeys() const {
-    for (const auto& entry : node_) {
-      const std::string key = entry.first.as<std::string>();
-      UWS_CHECK(seen_.count(key), source_, ": unknown key '", Name(key), "'");
-    }
-  }
-
-  double ToNumber(const YAML::Node& value, const std::string& name) const {
-    UWS_CHECK(value.IsScalar(), source_, ": '", name, "' must be a number");
-    const std::string& text = value.Scalar();
-    double number = 0.0;
-    const auto result = std::from_chars(text.data(), text.data() + text.size(), number);
-    UWS_CHECK(result.ec == std::errc() && result.ptr == text.data() + text.size(), source_, ": '",
-              name, "' must be a number (got '", text, "')");
-    UWS_CHECK(std::isfinite(number), source_, ": '", name, "' must be finite (got '", text, "')");
-    return number;
-  }
-
-  const std::string& source() const { return source_; }
-
- private:
-  YAML::Node node_;
-  std::string where_;
-  std::string source_;
-  std::set<std::string> seen_;
-};
-
-Rigid3d ReadPose(Map& parent, const std::string& key) {
-  Map pose(parent.Get(key), parent.Name(key), parent.source());
+Rigid3d ReadPose(StrictMap& parent, const std::string& key) {
+  StrictMap pose = parent.Child(key);
   const auto q = pose.Vector<4>("q");
   const auto t = pose.Vector<3>("t");
   pose.CheckNoUnknownKeys();
@@ -102,7 +28,7 @@ Rigid3d ReadPose(Map& parent, const std::string& key) {
 }
 
 Camera ReadCamera(const YAML::Node& node, const std::string& where, const std::string& source) {
-  Map map(node, where, source);
+  StrictMap map(node, where, source);
   Camera camera;
   camera.name = map.String("name");
   camera.width = map.Integer("width");
@@ -116,7 +42,7 @@ Camera ReadCamera(const YAML::Node& node, const std::string& where, const std::s
   camera.intrinsics = {map.Number("fx"), map.Number("fy"), map.Number("cx"), map.Number("cy")};
   camera.distortion = map.Vector<5>("distortion");
   if (camera.IsFlatPort()) {
-    Map port(map.Get("port"), map.Name("port"), source);
+    StrictMap port = map.Child("port");
     const auto normal = port.Vector<3>("normal");
     camera.port.normal = Eigen::Vector3d(normal[0], normal[1], normal[2]);
     camera.port.d_air = port.Number("d_air");
@@ -137,7 +63,7 @@ Camera ReadCamera(const YAML::Node& node, const std::string& where, const std::s
 
 LineProjector ReadLaser(const YAML::Node& node, const std::string& where,
                         const std::string& source) {
-  Map map(node, where, source);
+  StrictMap map(node, where, source);
   LineProjector laser;
   laser.name = map.String("name");
   laser.camera_from_laser = ReadPose(map, "camera_from_laser");
@@ -148,18 +74,12 @@ LineProjector ReadLaser(const YAML::Node& node, const std::string& where,
   return laser;
 }
 
-std::string Num(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
-
 template <typename Container>
 std::string List(const Container& values) {
   std::string out = "[";
   bool first = true;
   for (double v : values) {
-    out += (first ? "" : ", ") + Num(v);
+    out += (first ? "" : ", ") + YamlNumber(v);
     first = false;
   }
   return out + "]";
@@ -181,7 +101,7 @@ Rig ParseRigYaml(const std::string& text, const std::string& source) {
     UWS_THROW(source, ": not valid YAML: ", e.what());
   }
   UWS_CHECK(root.IsDefined() && !root.IsNull(), source, ": empty rig file");
-  Map map(root, "", source);
+  StrictMap map(root, "", source);
   const std::string format = map.String("format");
   UWS_CHECK(format == kFormat, source, ": 'format' must be ", kFormat, " (got '", format, "')");
   Rig rig;
@@ -220,19 +140,19 @@ std::string RigToYaml(const Rig& rig) {
         << "    height: " << c.height << "\n"
         << "    bayer: " << c.bayer << "\n"
         << "    model: " << CameraModelName(c.model) << "\n"
-        << "    fx: " << Num(c.intrinsics[0]) << "\n"
-        << "    fy: " << Num(c.intrinsics[1]) << "\n"
-        << "    cx: " << Num(c.intrinsics[2]) << "\n"
-        << "    cy: " << Num(c.intrinsics[3]) << "\n"
+        << "    fx: " << YamlNumber(c.intrinsics[0]) << "\n"
+        << "    fy: " << YamlNumber(c.intrinsics[1]) << "\n"
+        << "    cx: " << YamlNumber(c.intrinsics[2]) << "\n"
+        << "    cy: " << YamlNumber(c.intrinsics[3]) << "\n"
         << "    distortion: " << List(c.distortion) << "\n";
     if (c.IsFlatPort()) {
       out << "    port:\n"
           << "      normal: " << List(c.port.normal) << "\n"
-          << "      d_air: " << Num(c.port.d_air) << "\n"
-          << "      d_glass: " << Num(c.port.d_glass) << "\n"
-          << "      n_air: " << Num(c.port.n_air) << "\n"
-          << "      n_glass: " << Num(c.port.n_glass) << "\n"
-          << "      n_water: " << Num(c.port.n_water) << "\n";
+          << "      d_air: " << YamlNumber(c.port.d_air) << "\n"
+          << "      d_glass: " << YamlNumber(c.port.d_glass) << "\n"
+          << "      n_air: " << YamlNumber(c.port.n_air) << "\n"
+          << "      n_glass: " << YamlNumber(c.port.n_glass) << "\n"
+          << "      n_water: " << YamlNumber(c.port.n_water) << "\n";
     }
     out << "    rig_from_camera: " << Pose(c.rig_from_camera) << "\n";
   }
@@ -241,8 +161,8 @@ std::string RigToYaml(const Rig& rig) {
     for (const auto& l : rig.lasers) {
       out << "  - name: " << l.name << "\n"
           << "    camera_from_laser: " << Pose(l.camera_from_laser) << "\n"
-          << "    p1: " << Num(l.p1) << "\n"
-          << "    wavelength_nm: " << Num(l.wavelength_nm) << "\n";
+          << "    p1: " << YamlNumber(l.p1) << "\n"
+          << "    wavelength_nm: " << YamlNumber(l.wavelength_nm) << "\n";
     }
   }
   return out.str();

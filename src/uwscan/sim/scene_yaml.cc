@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/io/strict_yaml.h"
 #include "uwscan/io/tum.h"
-#include "uwscan/sim/strict_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 

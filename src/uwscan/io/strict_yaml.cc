@@ -1,4 +1,4 @@
-#include "uwscan/sim/strict_yaml.h"
+#include "uwscan/io/strict_yaml.h"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 
 #include "uwscan/util/error.h"
 
-namespace uwscan::sim {
+namespace uwscan {
 
 StrictMap::StrictMap(const YAML::Node& node, std::string where, std::string source)
     : node_(node), where_(std::move(where)), source_(std::move(source)) {
@@ -72,12 +72,8 @@ std::string StrictMap::String(const std::string& key) {
 }
 
 Eigen::Vector3d StrictMap::Vector3(const std::string& key) {
-  const YAML::Node value = Get(key);
-  UWS_CHECK(value.IsSequence() && value.size() == 3, source_, ": '", Name(key),
-            "' must be a list of 3 numbers");
-  Eigen::Vector3d v;
-  for (int i = 0; i < 3; ++i) v[i] = ToNumber(value[i], Name(key) + "[" + std::to_string(i) + "]");
-  return v;
+  const std::array<double, 3> v = Vector<3>(key);
+  return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
 Rigid3d StrictMap::Pose(const std::string& key) {
@@ -114,4 +110,4 @@ std::string YamlPose(const Rigid3d& pose) {
                      YamlVector(pose.translation));
 }
 
-}  // namespace uwscan::sim
+}  // namespace uwscan

@@ -1,5 +1,5 @@
 // A YAML mapping whose keys are checked: every key must be known and read,
-// and every error names the file and the key (same rules as rig.yaml).
+// and every error names the file and the key (rig.yaml, scene.yaml).
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -10,8 +10,9 @@
 #include <string>
 
 #include "uwscan/geometry/rigid3d.h"
+#include "uwscan/util/error.h"
 
-namespace uwscan::sim {
+namespace uwscan {
 
 class StrictMap {
  public:
@@ -28,6 +29,16 @@ class StrictMap {
   bool Bool(const std::string& key);
   std::string String(const std::string& key);
   Eigen::Vector3d Vector3(const std::string& key);
+  template <size_t N>
+  std::array<double, N> Vector(const std::string& key) {
+    const YAML::Node value = Get(key);
+    UWS_CHECK(value.IsSequence() && value.size() == N, source_, ": '", Name(key),
+              "' must be a list of ", N, " numbers");
+    std::array<double, N> result;
+    for (size_t i = 0; i < N; ++i)
+      result[i] = ToNumber(value[i], Name(key) + "[" + std::to_string(i) + "]");
+    return result;
+  }
   Rigid3d Pose(const std::string& key);  // {q: [w, x, y, z], t: [x, y, z]}
 
   // Throws on the first key that was never asked for.
@@ -47,4 +58,4 @@ std::string YamlNumber(double value);
 std::string YamlVector(const Eigen::Vector3d& v);
 std::string YamlPose(const Rigid3d& pose);
 
-}  // namespace uwscan::sim
+}  // namespace uwscan
