@@ -21,6 +21,21 @@ void AbsolutePoseOptions::Check() const {
   UWS_CHECK(max_iterations >= 1, "absolute pose max_iterations must be >= 1");
 }
 
+namespace {
+
+// Ray directions as points on the z = 1 plane (the central approximation).
+std::vector<cv::Point2d> NormalisedPoints(const std::vector<Ray>& rays) {
+  std::vector<cv::Point2d> points;
+  points.reserve(rays.size());
+  for (const Ray& ray : rays) {
+    const Eigen::Vector3d& d = ray.direction;
+    points.emplace_back(d.x() / d.z(), d.y() / d.z());
+  }
+  return points;
+}
+
+}  // namespace
+
 RelativePoseResult EstimateRelativePose(const std::vector<Ray>& rays1,
                                         const std::vector<Ray>& rays2,
                                         const RelativePoseOptions& options) {
@@ -28,13 +43,7 @@ RelativePoseResult EstimateRelativePose(const std::vector<Ray>& rays1,
   UWS_CHECK(rays1.size() == rays2.size(), "EstimateRelativePose: ray counts differ");
   RelativePoseResult result;
   if (rays1.size() < 8) return result;
-  std::vector<cv::Point2d> p1, p2;
-  for (size_t i = 0; i < rays1.size(); ++i) {
-    const Eigen::Vector3d& a = rays1[i].direction;
-    const Eigen::Vector3d& b = rays2[i].direction;
-    p1.emplace_back(a.x() / a.z(), a.y() / a.z());
-    p2.emplace_back(b.x() / b.z(), b.y() / b.z());
-  }
+  const std::vector<cv::Point2d> p1 = NormalisedPoints(rays1), p2 = NormalisedPoints(rays2);
   cv::Mat mask;
   const cv::Mat essential = cv::findEssentialMat(p1, p2, 1.0, cv::Point2d(0, 0), cv::RANSAC,
                                                  options.confidence, options.threshold_rad, mask);
@@ -64,13 +73,7 @@ std::vector<RelativePoseResult> RelativePosesFromHomography(const std::vector<Ra
   UWS_CHECK(rays1.size() == rays2.size(), "RelativePosesFromHomography: ray counts differ");
   std::vector<RelativePoseResult> results;
   if (rays1.size() < 8) return results;
-  std::vector<cv::Point2d> p1, p2;
-  for (size_t i = 0; i < rays1.size(); ++i) {
-    const Eigen::Vector3d& a = rays1[i].direction;
-    const Eigen::Vector3d& b = rays2[i].direction;
-    p1.emplace_back(a.x() / a.z(), a.y() / a.z());
-    p2.emplace_back(b.x() / b.z(), b.y() / b.z());
-  }
+  const std::vector<cv::Point2d> p1 = NormalisedPoints(rays1), p2 = NormalisedPoints(rays2);
   cv::Mat mask;
   const cv::Mat homography =
       cv::findHomography(p1, p2, cv::RANSAC, options.threshold_rad, mask, 2000, options.confidence);
