@@ -30,6 +30,10 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--keep-static-detections", *keep_static,
                 "servo scans: keep line detections that stay put while the laser sweeps "
                 "(removed by default: a painted stripe or reflection, thesis §5.5)");
+  cmd->add_option("--max-dormant-frames", job->self_referenced.odometry.tracker.max_dormant_frames,
+                  "frames a feature track cut by the laser line may stay lost and still be taken "
+                  "up again under its id (thesis §5.5; 0 = off)")
+      ->capture_default_str();
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
   cmd->callback([=] {
     job->dataset = *dataset;

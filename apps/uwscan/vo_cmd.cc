@@ -41,6 +41,10 @@ void RegisterVoCommand(CLI::App& app) {
   vo->add_option("--per-cell", job->odometry.tracker.max_per_cell,
                  "features per grid cell (8x6 grid)")
       ->capture_default_str();
+  vo->add_option("--max-dormant-frames", job->odometry.tracker.max_dormant_frames,
+                 "frames a track cut by the laser line (or lost by KLT) may stay lost and still be "
+                 "taken up again under its id (0 = off)")
+      ->capture_default_str();
   vo->add_flag("--async-ba", job->odometry.async_bundle_adjustment,
                "windowed BA on a second thread (frames are not held up by it)");
   vo->add_option("--max-frames", job->max_frames, "stop after this many frames");
@@ -134,6 +138,10 @@ void RegisterVoCommand(CLI::App& app) {
                  "%d unreadable; %d keyframes, %d gaps -> %s\n",
                  s.frames, s.posed, s.tracked, s.lost, s.reinitialised, s.invalid, s.unreadable,
                  s.keyframes, s.gaps, out->c_str());
+    if (job->mask_laser) {
+      std::fprintf(stderr, "tracks: %ld lost on the laser mask, %ld taken up again after a loss\n",
+                   s.tracks_lost_on_mask, s.tracks_reacquired);
+    }
     std::fprintf(stderr,
                  "speed (CPU time): VO %.1f frames/s, tracking alone %.1f frames/s; wall clock: VO "
                  "%.1f frames/s; windowed BA %.1f ms/frame (wall); laser mask %.1f ms/frame; total "

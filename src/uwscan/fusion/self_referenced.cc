@@ -227,6 +227,8 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
   const vo::FrameResult result =
       odometry_->ProcessFrame(frame.input.image, frame.mask, frame.input.timestamp_s);
   if (result.keyframe) ++keyframes_;
+  tracks_cut_by_line_ += result.tracking.lost_mask;
+  tracks_reacquired_ += result.tracking.reacquired;
   if (!result.world_from_camera) {
     Restart();
     return std::nullopt;
@@ -272,6 +274,8 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"first_frame_with_pose", init_frame_},
           {"keyframes", keyframes_},
           {"implausible_poses_rejected", implausible_},
+          {"tracks_cut_by_laser_line", tracks_cut_by_line_},
+          {"tracks_reacquired", tracks_reacquired_},
           {"surface_points", surface_ ? surface_->size() : 0}};
 }
 

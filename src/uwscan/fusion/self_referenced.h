@@ -99,6 +99,7 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
   long range_constraints_ = 0;
+  long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
 };
 
 }  // namespace uwscan::fusion

@@ -157,6 +157,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     reasons.push_back(std::string(vo::FrameStatusName(result.status)) +
                       (result.message.empty() ? "" : ": " + result.message));
     summary.keyframes += result.keyframe;
+    summary.tracks_lost_on_mask += result.tracking.lost_mask;
+    summary.tracks_reacquired += result.tracking.reacquired;
     status_lines.push_back(std::to_string(entry.index) + "," + std::to_string(entry.timestamp_s) +
                            "," + vo::FrameStatusName(result.status) + "," +
                            std::to_string(int(result.keyframe)) + "," +

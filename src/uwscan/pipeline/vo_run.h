@@ -34,6 +34,7 @@ struct VoJob {
 struct VoRunSummary {
   int frames = 0, posed = 0, tracked = 0, lost = 0, invalid = 0, reinitialised = 0;
   int keyframes = 0, gaps = 0, unreadable = 0;
+  long tracks_lost_on_mask = 0, tracks_reacquired = 0;  // thesis §5.5 track re-association
   double wall_s = 0.0;
   double vo_s = 0.0;                            // inside Odometry::ProcessFrame
   double tracking_s = 0.0;                      // feature tracking part of it

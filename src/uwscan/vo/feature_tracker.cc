@@ -18,6 +18,11 @@ void FeatureTrackerOptions::Check() const {
   UWS_CHECK(klt_pyramid_levels >= 0 && klt_pyramid_levels <= 6, "klt_pyramid_levels in 0..6");
   UWS_CHECK(forward_backward_px > 0, "forward_backward_px must be > 0");
   UWS_CHECK(border_px >= 0, "border_px must be >= 0");
+  UWS_CHECK(max_dormant_frames >= 0, "max_dormant_frames must be >= 0");
+  UWS_CHECK(reacquire_neighbours >= 1, "reacquire_neighbours must be >= 1");
+  UWS_CHECK(reacquire_max_offset_px > 0, "reacquire_max_offset_px must be > 0");
+  UWS_CHECK(reacquire_min_correlation >= -1 && reacquire_min_correlation <= 1,
+            "reacquire_min_correlation must be in [-1, 1]");
 }
 
 FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(options) {
@@ -25,9 +30,12 @@ FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(
 }
 
 void FeatureTracker::Reset() {
-  anchor_pyramid_.clear();
+  anchor_pyramid_.reset();
+  anchor_mask_.release();
+  previous_mask_.release();
   tracks_.clear();
-  previous_pyramid_.clear();
+  dormant_.clear();
+  previous_pyramid_.reset();
   previous_gray_.release();
 }
 
@@ -37,6 +45,9 @@ void FeatureTracker::RemoveTracks(const std::vector<uint64_t>& ids) {
   tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
                                [&](const FeatureTrack& t) { return remove.count(t.id) > 0; }),
                 tracks_.end());
+  dormant_.erase(std::remove_if(dormant_.begin(), dormant_.end(),
+                                [&](const DormantTrack& d) { return remove.count(d.track.id) > 0; }),
+                 dormant_.end());
 }
 
 namespace {
@@ -48,6 +59,38 @@ bool Masked(const cv::Mat& mask, const cv::Point2f& p) {
   return mask.at<uint8_t>(y, x) != 0;
 }
 
+// True if the mask is set anywhere within `radius` pixels (a square) of p.
+bool MaskedNear(const cv::Mat& mask, const Eigen::Vector2d& p, int radius) {
+  if (mask.empty()) return false;
+  const int x = int(std::lround(p.x())), y = int(std::lround(p.y()));
+  if (x - radius < 0 || y - radius < 0 || x + radius >= mask.cols || y + radius >= mask.rows) {
+    return true;
+  }
+  for (int v = y - radius; v <= y + radius; ++v) {
+    const uint8_t* row = mask.ptr<uint8_t>(v);
+    for (int u = x - radius; u <= x + radius; ++u) {
+      if (row[u]) return true;
+    }
+  }
+  return false;
+}
+
+// Normalised cross-correlation of the 11x11 patches around a in A and b in B.
+double PatchCorrelation(const cv::Mat& A, const cv::Point2f& a, const cv::Mat& B,
+                        const cv::Point2f& b) {
+  cv::Mat pa, pb;
+  cv::getRectSubPix(A, cv::Size(11, 11), a, pa, CV_32F);
+  cv::getRectSubPix(B, cv::Size(11, 11), b, pb, CV_32F);
+  cv::Mat result;
+  cv::matchTemplate(pa, pb, result, cv::TM_CCOEFF_NORMED);
+  return double(result.at<float>(0, 0));
+}
+
+bool Inside(const cv::Point2f& p, const cv::Size& size, double border) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= border && p.y >= border &&
+         p.x <= size.width - 1 - border && p.y <= size.height - 1 - border;
+}
+
 }  // namespace
 
 TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
@@ -56,59 +99,196 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
             "FeatureTracker: mask must be CV_8U and of the image size");
   TrackingStats stats;
   const cv::Size window(options_.klt_window_px, options_.klt_window_px);
-  std::vector<cv::Mat> pyramid;
-  cv::buildOpticalFlowPyramid(gray, pyramid, window, options_.klt_pyramid_levels);
+  auto built = std::make_shared<std::vector<cv::Mat>>();
+  cv::buildOpticalFlowPyramid(gray, *built, window, options_.klt_pyramid_levels);
+  const Pyramid pyramid = built;
   if (!previous_gray_.empty() && previous_gray_.size() != gray.size()) Reset();
-  if (!previous_pyramid_.empty() && !tracks_.empty()) {
+  if (previous_pyramid_ && !tracks_.empty()) {
     std::vector<cv::Point2f> previous, current, back;
     for (const auto& t : tracks_) previous.emplace_back(float(t.pixel.x()), float(t.pixel.y()));
     std::vector<uint8_t> status, status_back;
     std::vector<float> error;
     const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                                     options_.klt_max_iterations, 0.01);
-    cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous, current, status, error, window,
-                             options_.klt_pyramid_levels, criteria);
+    cv::calcOpticalFlowPyrLK(*previous_pyramid_, *pyramid, previous, current, status, error,
+                             window, options_.klt_pyramid_levels, criteria);
     back = previous;
-    cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, current, back, status_back, error, window,
-                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-    if (options_.anchor_refinement && !anchor_pyramid_.empty()) {
-      RefineFromAnchor(pyramid, window, criteria, &current);
+    cv::calcOpticalFlowPyrLK(*pyramid, *previous_pyramid_, current, back, status_back, error,
+                             window, options_.klt_pyramid_levels, criteria,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    if (options_.anchor_refinement && anchor_pyramid_) {
+      RefineFromAnchor(*pyramid, window, criteria, &current);
     }
     std::vector<vo::FeatureTrack> kept;
+    std::vector<Eigen::Vector2d> flow_from, flow_to;
     kept.reserve(tracks_.size());
-    const double b = options_.border_px;
+    const bool keep_dormant = options_.max_dormant_frames > 0;
     for (size_t i = 0; i < tracks_.size(); ++i) {
       const cv::Point2f& p = current[i];
       if (!status[i] || !status_back[i] || !std::isfinite(p.x) || !std::isfinite(p.y) ||
           cv::norm(back[i] - previous[i]) > options_.forward_backward_px) {
         ++stats.lost_klt;
+        // Lost as the line entered its window: may come back once it has passed.
+        if (keep_dormant && MaskedNear(mask, tracks_[i].pixel, options_.klt_window_px / 2 + 2)) {
+          KeepDormant(tracks_[i]);
+        }
         continue;
       }
-      if (p.x < b || p.y < b || p.x > gray.cols - 1 - b || p.y > gray.rows - 1 - b) {
+      if (!Inside(p, gray.size(), options_.border_px)) {
         ++stats.lost_border;
         continue;
       }
       if (Masked(mask, p)) {
         ++stats.lost_mask;
+        if (keep_dormant) KeepDormant(tracks_[i]);
         continue;
       }
       vo::FeatureTrack t = tracks_[i];
+      flow_from.push_back(t.pixel);
       t.pixel = Eigen::Vector2d(p.x, p.y);
+      flow_to.push_back(t.pixel);
       ++t.age;
       kept.push_back(t);
     }
     tracks_.swap(kept);
+    if (!dormant_.empty()) Reacquire(*pyramid, mask, flow_from, flow_to, &stats);
   } else {
     tracks_.clear();
+    dormant_.clear();
   }
-  previous_pyramid_ = std::move(pyramid);
+  previous_pyramid_ = pyramid;
   previous_gray_ = gray;
+  previous_mask_ = mask.clone();
   stats.tracked = int(tracks_.size());
   return stats;
 }
 
+void FeatureTracker::KeepDormant(const FeatureTrack& track) {
+  // Only a track whose anchor patch is clear of the line: a line in the
+  // anchor patch would be matched to the line's new place, not the corner's.
+  if (!track.anchored || MaskedNear(anchor_mask_, track.anchor_pixel, options_.klt_window_px / 2)) {
+    return;
+  }
+  dormant_.push_back({track, anchor_pyramid_});
+}
+
+void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Mat& mask,
+                               const std::vector<Eigen::Vector2d>& flow_from,
+                               const std::vector<Eigen::Vector2d>& flow_to, TrackingStats* stats) {
+  // Carry each dormant position with the median flow of its nearest live
+  // neighbours (the flow is smooth over a few tens of pixels), age them.
+  const size_t k = std::min(flow_from.size(), size_t(options_.reacquire_neighbours));
+  std::vector<std::pair<double, size_t>> nearest(flow_from.size());
+  std::vector<double> dx(k), dy(k);
+  for (DormantTrack& d : dormant_) {
+    ++d.frames;
+    if (k < 3) continue;  // no flow to carry it: it stays where it was
+    for (size_t j = 0; j < flow_from.size(); ++j) {
+      nearest[j] = {(flow_from[j] - d.track.pixel).squaredNorm(), j};
+    }
+    std::partial_sort(nearest.begin(), nearest.begin() + std::ptrdiff_t(k), nearest.end());
+    for (size_t n = 0; n < k; ++n) {
+      const Eigen::Vector2d f = flow_to[nearest[n].second] - flow_from[nearest[n].second];
+      dx[n] = f.x();
+      dy[n] = f.y();
+    }
+    std::nth_element(dx.begin(), dx.begin() + std::ptrdiff_t(k / 2), dx.end());
+    std::nth_element(dy.begin(), dy.begin() + std::ptrdiff_t(k / 2), dy.end());
+    d.track.pixel += Eigen::Vector2d(dx[k / 2], dy[k / 2]);
+  }
+  const cv::Size size = pyramid.front().size();
+  const double b = options_.border_px;
+  dormant_.erase(std::remove_if(dormant_.begin(), dormant_.end(),
+                                [&](const DormantTrack& d) {
+                                  const cv::Point2f p(float(d.track.pixel.x()),
+                                                      float(d.track.pixel.y()));
+                                  return d.frames > options_.max_dormant_frames ||
+                                         !Inside(p, size, b);
+                                }),
+                 dormant_.end());
+
+  // Look again for those clear of the mask, from their anchor images.
+  // Only once the KLT window is clear of the mask: a bright line in the
+  // window would pull the match towards itself.
+  const int clearance = options_.klt_window_px / 2;
+  const cv::Size window(options_.klt_window_px, options_.klt_window_px);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                  options_.klt_max_iterations, 0.01);
+  std::vector<size_t> candidates;
+  for (size_t i = 0; i < dormant_.size(); ++i) {
+    if (!MaskedNear(mask, dormant_[i].track.pixel, clearance)) candidates.push_back(i);
+  }
+  std::sort(candidates.begin(), candidates.end(), [&](size_t a, size_t c) {
+    return dormant_[a].anchor.get() < dormant_[c].anchor.get();
+  });
+  std::vector<bool> revived(dormant_.size(), false);
+  for (size_t begin = 0; begin < candidates.size();) {
+    const Pyramid& anchor = dormant_[candidates[begin]].anchor;
+    size_t end = begin;
+    std::vector<cv::Point2f> from, to;
+    while (end < candidates.size() && dormant_[candidates[end]].anchor == anchor) {
+      const FeatureTrack& t = dormant_[candidates[end]].track;
+      from.emplace_back(float(t.anchor_pixel.x()), float(t.anchor_pixel.y()));
+      to.emplace_back(float(t.pixel.x()), float(t.pixel.y()));
+      ++end;
+    }
+    const std::vector<cv::Point2f> predicted = to;
+    std::vector<cv::Point2f> back = from;
+    std::vector<uint8_t> status, status_back;
+    std::vector<float> error;
+    cv::calcOpticalFlowPyrLK(*anchor, pyramid, from, to, status, error, window,
+                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(pyramid, *anchor, to, back, status_back, error, window,
+                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t n = 0; n < from.size(); ++n) {
+      const cv::Point2f& p = to[n];
+      if (!status[n] || !status_back[n] || !Inside(p, size, b) ||
+          MaskedNear(mask, Eigen::Vector2d(p.x, p.y), clearance) ||
+          cv::norm(back[n] - from[n]) > options_.forward_backward_px ||
+          cv::norm(p - predicted[n]) > options_.reacquire_max_offset_px) {
+        continue;
+      }
+      // Appearance as in the anchor (KLT converges somewhere on a weak
+      // patch; the correlation says whether it is the same corner).
+      if (PatchCorrelation((*anchor)[0], from[n], pyramid[0], p) < options_.reacquire_min_correlation) {
+        continue;
+      }
+      DormantTrack& d = dormant_[candidates[begin + n]];
+      FeatureTrack t = d.track;
+      t.pixel = Eigen::Vector2d(p.x, p.y);
+      ++t.age;
+      t.anchored = anchor == anchor_pyramid_;  // refined from the anchor only if it is the current one
+      // The corner may have been detected again meanwhile as a new track:
+      // the older track (with the map point) replaces it.
+      const double duplicate = 0.5 * options_.min_distance_px;
+      FeatureTrack* near = nullptr;
+      for (FeatureTrack& live : tracks_) {
+        if ((live.pixel - t.pixel).norm() <= duplicate) {
+          near = &live;
+          break;
+        }
+      }
+      revived[candidates[begin + n]] = true;  // found: no longer dormant either way
+      if (near) continue;
+      if (near) {
+        *near = t;
+      } else {
+        tracks_.push_back(t);
+      }
+      ++stats->reacquired;
+    }
+    begin = end;
+  }
+  size_t w = 0;
+  for (size_t i = 0; i < dormant_.size(); ++i) {
+    if (!revived[i]) dormant_[w++] = std::move(dormant_[i]);
+  }
+  dormant_.resize(w);
+}
+
 void FeatureTracker::SetAnchor() {
   anchor_pyramid_ = previous_pyramid_;
+  anchor_mask_ = previous_mask_;
   for (auto& t : tracks_) {
     t.anchored = true;
     t.anchor_pixel = t.pixel;
@@ -132,8 +312,8 @@ void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const
   // The frame-to-frame position starts within a pixel or so of the answer
   // (a larger correction is refused below): full resolution only, a quarter
   // of the work of the pyramid.
-  cv::calcOpticalFlowPyrLK(anchor_pyramid_, pyramid, from, to, status, error, window, 0, criteria,
-                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  cv::calcOpticalFlowPyrLK(*anchor_pyramid_, pyramid, from, to, status, error, window, 0,
+                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
   for (size_t k = 0; k < index.size(); ++k) {
     cv::Point2f& p = (*current)[index[k]];
     if (status[k] && std::isfinite(to[k].x) && std::isfinite(to[k].y) &&

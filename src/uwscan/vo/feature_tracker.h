@@ -4,10 +4,19 @@
 // a forward-backward check. A mask (CV_8U, non-zero = ignore, e.g. the laser
 // line of laser::DetectLaserLine) excludes pixels from detection and drops
 // tracks that land on them.
+//
+// Track-to-track association across the line (thesis §5.5): a track lost on
+// the mask (or by KLT, as the line enters its window) is kept dormant for a
+// few frames, its position carried along with the flow of its neighbours;
+// once that position is clear of the mask, KLT from the track's anchor image
+// looks for it again and, if the forward-backward check holds, the track
+// goes on under its old id, so the map point keeps its observations on both
+// sides of the line instead of being cut into two tracks.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -34,6 +43,13 @@ struct FeatureTrackerOptions {
   // sub-pixel errors do not add up between keyframes.
   bool anchor_refinement = true;
   double anchor_max_correction_px = 1.0;
+  // Re-association of tracks lost on the mask or by KLT: frames a lost
+  // track stays dormant (0 = off), neighbours whose median flow carries its
+  // predicted position, and how far KLT may move it from that prediction.
+  int max_dormant_frames = 20;
+  int reacquire_neighbours = 8;
+  double reacquire_max_offset_px = 3.0;
+  double reacquire_min_correlation = 0.9;  // NCC of 11x11 patches, anchor vs found
   void Check() const;
 };
 
@@ -51,6 +67,7 @@ struct TrackingStats {
   int lost_border = 0;  // left the image
   int lost_mask = 0;    // landed on masked pixels
   int detected = 0;     // new features
+  int reacquired = 0;   // dormant tracks taken up again under their old id
 };
 
 class FeatureTracker {
@@ -73,16 +90,31 @@ class FeatureTracker {
     return options_.grid_cols * options_.grid_rows * options_.max_per_cell;
   }
   const FeatureTrackerOptions& options() const { return options_; }
+  int num_dormant() const { return int(dormant_.size()); }
 
  private:
+  using Pyramid = std::shared_ptr<const std::vector<cv::Mat>>;
+  struct DormantTrack {
+    FeatureTrack track;          // as last seen; track.pixel is carried by the flow
+    Pyramid anchor;              // the image track.anchor_pixel refers to
+    int frames = 0;              // frames dormant
+  };
   FeatureTrackerOptions options_;
   std::vector<FeatureTrack> tracks_;
-  std::vector<cv::Mat> previous_pyramid_;
-  std::vector<cv::Mat> anchor_pyramid_;
+  std::vector<DormantTrack> dormant_;
+  Pyramid previous_pyramid_;
+  Pyramid anchor_pyramid_;
+  cv::Mat previous_mask_, anchor_mask_;  // masks of those images
   // Refines the frame-to-frame positions `current` (one per track) by KLT
   // from the anchor image, for the tracks seen there.
   void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
                         const cv::TermCriteria& criteria, std::vector<cv::Point2f>* current);
+  void KeepDormant(const FeatureTrack& track);
+  // Moves the dormant tracks with the flow of the live ones (`previous` ->
+  // tracks_ positions), ages them and takes up those found again.
+  void Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Mat& mask,
+                 const std::vector<Eigen::Vector2d>& flow_from,
+                 const std::vector<Eigen::Vector2d>& flow_to, TrackingStats* stats);
   cv::Mat previous_gray_;
   uint64_t next_id_ = 1;
 };

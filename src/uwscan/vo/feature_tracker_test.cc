@@ -77,6 +77,60 @@ TEST_F(FeatureTrackerTest, HonoursTheMask) {
   }
 }
 
+// Thesis §5.5: a track cut by the laser line is taken up again under its old
+// id once the line has passed, at the right place.
+TEST_F(FeatureTrackerTest, ReacquiresTracksBehindTheLaserLine) {
+  testing::RenderOptions render;  // a bright line in the image, masked
+  render.laser_column_px = camera_.width / 2;
+  render.laser_width_px = 3.0;
+  const cv::Mat band = renderer_.LaserMask(render, 5.0);
+  const double band_begin = render.laser_column_px;
+  auto pose = [](int frame) { return testing::DownwardPose({0.025 * frame, 0.0, 2.0}, 0.0, 0.01); };
+  auto run = [&](int max_dormant_frames, int* survivors_across,
+                 std::vector<double>* errors) -> int {
+    FeatureTrackerOptions options;
+    options.max_dormant_frames = max_dormant_frames;
+    FeatureTracker tracker(options);
+    tracker.Track(renderer_.Render(pose(0), render), band);
+    tracker.Detect(band);
+    tracker.SetAnchor();
+    const std::vector<FeatureTrack> first = tracker.tracks();
+    int reacquired = 0;
+    for (int frame = 1; frame <= 25; ++frame) {
+      reacquired += tracker.Track(renderer_.Render(pose(frame), render), band).reacquired;
+    }
+    // Tracks of frame 0 now on the other side of the band than they started.
+    *survivors_across = 0;
+    for (const FeatureTrack& t : tracker.tracks()) {
+      const auto it = std::find_if(first.begin(), first.end(),
+                                   [&](const FeatureTrack& f) { return f.id == t.id; });
+      if (it == first.end()) continue;
+      const bool crossed = (it->pixel.x() < band_begin) != (t.pixel.x() < band_begin);
+      if (!crossed) continue;
+      ++*survivors_across;
+      const auto point = renderer_.PointAt(pose(0), it->pixel);
+      const auto expected = camera_.Project(pose(25).Inverse() * *point);
+      if (!expected) {
+        ADD_FAILURE() << "track " << t.id << " has no ground-truth projection";
+        continue;
+      }
+      errors->push_back((*expected - t.pixel).norm());
+    }
+    return reacquired;
+  };
+  int across_off = 0, across_on = 0;
+  std::vector<double> errors_off, errors_on;
+  EXPECT_EQ(run(0, &across_off, &errors_off), 0);
+  EXPECT_EQ(across_off, 0);  // without re-association every crossing track is cut
+  const int reacquired = run(20, &across_on, &errors_on);
+  EXPECT_GT(reacquired, 5);
+  EXPECT_GE(across_on, 5);
+  std::sort(errors_on.begin(), errors_on.end());
+  ASSERT_FALSE(errors_on.empty());
+  EXPECT_LT(errors_on[errors_on.size() / 2], 0.2);
+  EXPECT_LT(errors_on.back(), 1.0);  // no track taken up at a wrong corner
+}
+
 TEST_F(FeatureTrackerTest, NoFeaturesOnBlackOrTexturelessFrames) {
   FeatureTracker tracker;
   tracker.Track(renderer_.Render(testing::DownwardPose({0, 0, 2})), cv::Mat());
