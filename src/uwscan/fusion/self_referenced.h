@@ -90,6 +90,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   SelfReferencedOptions options_;
   std::unique_ptr<vo::Odometry> odometry_;
   std::unique_ptr<SurfaceModel> surface_;
+  // While no pose: the surface of the first init_surface_frames_ held frames.
+  std::unique_ptr<SurfaceModel> init_surface_;
+  size_t init_surface_frames_ = 0;
   std::deque<Held> held_;
   bool running_ = false;
   std::optional<Rigid3d> last_pose_;

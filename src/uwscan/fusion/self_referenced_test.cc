@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
+#include <opencv2/imgproc.hpp>
 
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
@@ -90,6 +92,38 @@ TEST(SelfReferenced, PassiveImageAvoidsTheLaserColour) {
   cv::meanStdDev(flat(cv::Rect(16, 16, 32, 32)), mean, stddev);
   EXPECT_NEAR(mean[0], 128.0, 2.0);
   EXPECT_LT(stddev[0], 2.0);
+}
+
+// The fast high pass (blur of a 4x smaller image) matches the full-size
+// Gaussian one away from the border on texture with strong shading.
+TEST(SelfReferencedPoseProvider, FastIlluminationNormalisationMatchesFullGaussian) {
+  cv::Mat texture(240, 320, CV_32F);
+  cv::randu(texture, 0.0, 60.0);
+  cv::GaussianBlur(texture, texture, cv::Size(), 1.2);
+  cv::Mat image(texture.size(), CV_8U);
+  for (int r = 0; r < image.rows; ++r) {
+    for (int c = 0; c < image.cols; ++c) {
+      const double d2 = (c - 160.0) * (c - 160.0) + (r - 100.0) * (r - 100.0);
+      const double shading = 60.0 + 80.0 * std::exp(-d2 / 9000.0);
+      image.at<uint8_t>(r, c) = cv::saturate_cast<uint8_t>(shading + texture.at<float>(r, c));
+    }
+  }
+  const double sigma = 6.4;
+  const cv::Mat fast = SelfReferencedPoseProvider::NormalizeIllumination(image, sigma);
+  cv::Mat value, background, exact;
+  image.convertTo(value, CV_32F);
+  cv::GaussianBlur(value, background, cv::Size(), sigma);
+  cv::Mat((value - background) * 4.0 + 128.0).convertTo(exact, CV_8U);
+  const cv::Rect inner(24, 24, image.cols - 48, image.rows - 48);
+  cv::Mat difference;
+  cv::absdiff(fast(inner), exact(inner), difference);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(exact(inner), mean, stddev);
+  double max_difference = 0.0;
+  cv::minMaxLoc(difference, nullptr, &max_difference);
+  EXPECT_GT(stddev[0], 10.0);  // real texture after the high pass
+  EXPECT_LE(max_difference, 2.0);  // grey levels, after the x4 gain
+  EXPECT_LT(cv::mean(difference)[0], 0.3);
 }
 
 }  // namespace

@@ -57,10 +57,12 @@ std::vector<LaserPoint> SweepFilter::Filter(int frame, double servo_angle_rad,
     // Found at the same place (neighbouring scan lines too: a stripe is not
     // found on every line of every frame) in any of those frames?
     bool stayed = false;
+    const int own_line = line_of(p);
+    const float position = across(p);
     for (const auto& [past, tolerance] : references) {
-      for (int line = line_of(p) - options_.line_search;
-           line <= line_of(p) + options_.line_search && !stayed; ++line) {
-        stayed = std::abs(past->At(line) - across(p)) <= tolerance;  // false for NaN
+      for (int line = own_line - options_.line_search;
+           line <= own_line + options_.line_search && !stayed; ++line) {
+        stayed = std::abs(past->At(line) - position) <= tolerance;  // false for NaN
       }
       if (stayed) break;
     }
