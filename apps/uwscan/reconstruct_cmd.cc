@@ -14,6 +14,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto poses = std::make_shared<std::string>();
   auto no_compensation = std::make_shared<bool>(false);
   auto keep_static = std::make_shared<bool>(false);
+  auto no_difference = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "reconstruct",
       "Motion-compensated point cloud from a dataset: cloud.ply, cloud_uncompensated.ply, "
@@ -34,6 +35,9 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "frames a feature track cut by the laser line may stay lost and still be taken "
                   "up again under its id (thesis §5.5; 0 = off)")
       ->capture_default_str();
+  cmd->add_flag("--no-difference-image", *no_difference,
+                "interleaved scans: detect the line in the laser-on frame itself, not in its "
+                "difference to the laser-off frame before it");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
   cmd->callback([=] {
     job->dataset = *dataset;
@@ -41,6 +45,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     if (!poses->empty()) job->poses_file = *poses;
     job->motion_compensation = !*no_compensation;
     job->sweep_filter = !*keep_static;
+    job->detect_on_difference = !*no_difference;
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
       std::fprintf(stderr,

@@ -16,7 +16,7 @@ struct SimulateArgs {
   uint64_t seed = 1;
   double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0,
          laser_tilt_deg = 5;
-  bool quiet = false;
+  bool quiet = false, laser_interleave = false;
 };
 
 void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
@@ -43,6 +43,7 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   options.marine_snow_per_m3 = args.marine_snow;
   options.painted_stripe_m = args.painted_stripe;
   options.painted_stripe_colour = args.stripe_colour;
+  options.laser_interleave = args.laser_interleave;
   try {
     if (given("--output")) options.output = sim::OutputFormatFromName(args.output);
     options.Check();
@@ -101,6 +102,8 @@ void RegisterSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--stripe-colour", args->stripe_colour, "white | yellow | green")
       ->capture_default_str();
+  cmd->add_flag("--laser-interleave", args->laser_interleave,
+                "lasers on in even frames only (frames.csv gets a laser_on column)");
   cmd->add_option("--threads", args->threads, "render threads")->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "no progress bar or summary");
   cmd->callback([args, cmd] { RunSimulate(*args, *cmd); });

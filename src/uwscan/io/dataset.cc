@@ -19,9 +19,23 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
   std::string line;
   UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(), ": empty file");
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  const bool with_angle = line == "index,timestamp_s,file,laser_angle_rad";
-  UWS_CHECK(with_angle || line == "index,timestamp_s,file", path.string(),
-            ": header must be 'index,timestamp_s,file[,laser_angle_rad]' (got '", line, "')");
+  // index,timestamp_s,file then optional laser_angle_rad and laser_on, in
+  // that order.
+  const std::string base = "index,timestamp_s,file";
+  bool with_angle = false, with_on = false;
+  if (line.rfind(base, 0) == 0) {
+    const std::string rest = line.substr(base.size());
+    with_angle = rest == ",laser_angle_rad" || rest == ",laser_angle_rad,laser_on";
+    with_on = rest == ",laser_on" || rest == ",laser_angle_rad,laser_on";
+    UWS_CHECK(rest.empty() || with_angle || with_on, path.string(),
+              ": header must be 'index,timestamp_s,file[,laser_angle_rad][,laser_on]' (got '",
+              line, "')");
+  } else {
+    UWS_THROW(path.string(),
+              ": header must be 'index,timestamp_s,file[,laser_angle_rad][,laser_on]' (got '", line,
+              "')");
+  }
+  const size_t num_fields = 3 + (with_angle ? 1 : 0) + (with_on ? 1 : 0);
   std::vector<FrameRecord> records;
   int number = 1;
   while (std::getline(in, line)) {
@@ -32,8 +46,8 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
     std::istringstream split(line);
     std::string field;
     while (std::getline(split, field, ',')) fields.push_back(field);
-    UWS_CHECK(fields.size() == (with_angle ? 4u : 3u), path.string(), ":", number, ": expected ",
-              with_angle ? 4 : 3, " fields");
+    UWS_CHECK(fields.size() == num_fields, path.string(), ":", number, ": expected ", num_fields,
+              " fields");
     FrameRecord record;
     try {
       size_t used = 0;
@@ -46,6 +60,12 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
       UWS_THROW(path.string(), ":", number,
                 ": index, timestamp_s and laser_angle_rad must be numbers");
     }
+    if (with_on) {
+      const std::string& on = fields.back();
+      UWS_CHECK(on == "0" || on == "1", path.string(), ":", number,
+                ": laser_on must be 0 or 1 (got '", on, "')");
+      record.laser_on = on == "1";
+    }
     record.file = fields[2];
     UWS_CHECK(!record.file.empty(), path.string(), ":", number, ": empty file name");
     records.push_back(record);
@@ -53,10 +73,11 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
   return records;
 }
 
-FramesCsvWriter::FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle)
-    : file_(path), with_laser_angle_(with_laser_angle) {
+FramesCsvWriter::FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle,
+                                 bool with_laser_on)
+    : file_(path), with_laser_angle_(with_laser_angle), with_laser_on_(with_laser_on) {
   file_.stream() << "index,timestamp_s,file" << (with_laser_angle ? ",laser_angle_rad" : "")
-                 << "\n";
+                 << (with_laser_on ? ",laser_on" : "") << "\n";
 }
 
 void FramesCsvWriter::Add(const FrameRecord& record) {
@@ -64,6 +85,7 @@ void FramesCsvWriter::Add(const FrameRecord& record) {
                  << record.file;
   if (with_laser_angle_)
     file_.stream() << "," << fmt::format("{:.17g}", record.laser_angle_rad.value_or(0.0));
+  if (with_laser_on_) file_.stream() << "," << (record.laser_on.value_or(true) ? 1 : 0);
   file_.stream() << "\n";
 }
 

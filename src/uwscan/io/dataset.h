@@ -1,5 +1,5 @@
 // Dataset folder (architecture.md): rig.yaml, frames.csv
-// (index,timestamp_s,file[,laser_angle_rad]), frames/, groundtruth.tum,
+// (index,timestamp_s,file[,laser_angle_rad][,laser_on]), frames/, groundtruth.tum,
 // scene.yaml, laser_gt.csv, calib/{air,water,laser}/. Writers stream, so
 // memory stays flat with sequence length.
 #pragma once
@@ -18,6 +18,9 @@ struct FrameRecord {
   double timestamp_s = 0.0;
   std::string file;                       // relative to the dataset folder
   std::optional<double> laser_angle_rad;  // servo angle of the first laser
+  // Lasers switched on in this frame; unset = always on. Interleaved scans
+  // (thesis §5.4/5.5) alternate on and off frames.
+  std::optional<bool> laser_on;
 };
 
 // File name of frame `index` inside the dataset: frames/000123.png.
@@ -27,13 +30,15 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path);
 
 class FramesCsvWriter {
  public:
-  FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle);
+  FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle,
+                  bool with_laser_on = false);
   void Add(const FrameRecord& record);
   void Commit() { file_.Commit(); }
 
  private:
   AtomicFile file_;
   bool with_laser_angle_;
+  bool with_laser_on_;
 };
 
 // laser_gt.csv: frame,laser,u,v,x,y,z (camera frame, metres).

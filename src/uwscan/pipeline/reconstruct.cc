@@ -46,10 +46,11 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   const auto percent = [](double part, double whole) {
     return std::to_string(static_cast<int>(std::lround(100.0 * part / std::max(whole, 1.0))));
   };
-  if (frames > 0 && frames_with_line < 0.9 * frames) {
-    warnings.push_back("no laser line in " + percent(frames - frames_with_line, frames) +
-                       " % of the frames (turbid or dark water, the line out of view or too "
-                       "weak): those frames add nothing to the cloud");
+  const int frames_lit = frames - frames_laser_off;
+  if (frames_lit > 0 && frames_with_line < 0.9 * frames_lit) {
+    warnings.push_back("no laser line in " + percent(frames_lit - frames_with_line, frames_lit) +
+                       " % of the frames with the laser on (turbid or dark water, the line out "
+                       "of view or too weak): those frames add nothing to the cloud");
   }
   if (frames_with_line > 0 && scan_lines > 0 &&
       static_cast<double>(points) / frames_with_line < 0.5 * scan_lines) {
@@ -101,6 +102,8 @@ nlohmann::json ReconstructReport::ToJson() const {
   return {{"frames", frames},
           {"warnings", Warnings()},
           {"frames_with_line", frames_with_line},
+          {"frames_laser_off", frames_laser_off},
+          {"lines_detected_on_difference_images", frames_on_difference},
           {"frames_without_pose", frames_without_pose},
           {"points", points},
           {"points_uncompensated", points_uncompensated},
@@ -206,6 +209,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   // dataset would otherwise take a third of the time).
   const auto read = [&](size_t i) { return ReadImage(job.dataset / frames[i].file); };
   std::future<cv::Mat> next_image;
+  cv::Mat dark_image;  // the last laser-off frame of an interleaved scan
+  size_t dark_frame = 0;
   if (!frames.empty()) next_image = std::async(std::launch::async, read, size_t{0});
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
@@ -218,10 +223,33 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     report.seconds_io += Seconds(t);
 
     t = std::chrono::steady_clock::now();
-    const auto layout = laser::LayoutFor(camera.bayer, image.channels());
-    const laser::Detection detection = laser::DetectLaserLine(image, layout, detector);
+    // Interleaved scans (frames.csv laser_on, thesis §5.4): nothing to detect
+    // with the laser off; with it on, the line is found in the difference to
+    // the previous (laser-off) frame, where the scene's own texture, a
+    // painted stripe or the ambient light cancel.
+    const bool laser_off = record.laser_on && !*record.laser_on;
+    const bool difference = job.detect_on_difference && record.laser_on && !laser_off;
+    laser::Detection detection;
+    if (difference && (i == 0 || dark_image.empty() || dark_frame != i - 1)) {
+      // No laser-off frame just before (the first frame): the line is not
+      // looked for in the raw image, where the scene could pass for it.
+    } else if (!laser_off) {
+      const auto layout = laser::LayoutFor(camera.bayer, image.channels());
+      if (difference) {
+        cv::Mat lit_only;
+        cv::subtract(image, dark_image, lit_only);  // saturates at 0
+        detection = laser::DetectLaserLine(lit_only, layout, detector);
+        ++report.frames_on_difference;
+      } else {
+        detection = laser::DetectLaserLine(image, layout, detector);
+      }
+    } else {
+      ++report.frames_laser_off;
+      dark_image = image;
+      dark_frame = i;
+    }
     std::vector<laser::LaserPoint> line_points = detection.points;
-    if (sweep_filter && record.laser_angle_rad) {
+    if (sweep_filter && record.laser_angle_rad && !laser_off) {
       int removed = 0;
       line_points = sweep_filter->Filter(record.index, *record.laser_angle_rad, line_points, &removed);
       report.static_detections_removed += removed;

@@ -28,6 +28,9 @@ struct ReconstructJob {
   // Servo datasets: drop line detections that stay put while the sheet
   // sweeps (laser/sweep_filter.h, thesis §5.5).
   bool sweep_filter = true;
+  // Interleaved datasets (frames.csv laser_on): detect the line in the
+  // difference of each laser-on frame and the laser-off frame before it.
+  bool detect_on_difference = true;
   int max_frames = 0;  // 0: all
   bool quiet = false;
   void Check() const;
@@ -36,6 +39,8 @@ struct ReconstructJob {
 struct ReconstructReport {
   int frames = 0;
   int frames_with_line = 0;
+  int frames_laser_off = 0;      // interleaved scans: frames taken with the laser off
+  int frames_on_difference = 0;  // line detected in the difference to the laser-off frame
   int frames_without_pose = 0;
   long points = 0;
   long points_uncompensated = 0;

@@ -160,6 +160,7 @@ std::vector<Renderer::LaserFrame> Renderer::MakeLaserFrames(const FrameState& st
       "FrameState: laser_angles_rad must be empty or have one angle per laser (got ",
       state.laser_angles_rad.size(), " for ", config_.lasers.size(), ")");
   std::vector<LaserFrame> frames;
+  if (!state.lasers_on) return frames;
   for (size_t i = 0; i < config_.lasers.size(); ++i) {
     const LaserSource& source = config_.lasers[i];
     const LineProjector& projector = config_.rig.lasers[source.rig_laser];

@@ -66,6 +66,7 @@ struct SimConfig {
 struct FrameState {
   Rigid3d world_from_camera;
   std::vector<double> laser_angles_rad;  // servo angle per laser source (empty = 0)
+  bool lasers_on = true;                 // false: the lasers are off in this frame
   // Poses spread over the exposure for motion blur; empty = world_from_camera.
   std::vector<Rigid3d> exposure_poses;
   uint64_t noise_seed = 1;

@@ -245,6 +245,7 @@ FrameState Scenario::FrameAt(const Trajectory& trajectory, int frame) const {
   for (size_t i = 0; i < config.lasers.size(); ++i) {
     if (config.lasers[i].servo) state.laser_angles_rad[i] = ServoAngle(frame);
   }
+  state.lasers_on = !laser_interleave || frame % 2 == 0;
   state.noise_seed = StreamSeed(seed, 0xF4A3E, static_cast<uint64_t>(frame));
   if (motion_blur_samples > 1 && views.empty()) {
     // Exposure centred on the frame time.
@@ -297,6 +298,7 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
   }
   scenario.seed = options.seed;
   scenario.motion_blur_samples = options.motion_blur_samples;
+  scenario.laser_interleave = options.laser_interleave;
   scenario.config.render.supersample = options.supersample;
   for (auto& set : scenario.calibration) set.config.render.supersample = options.supersample;
   scenario.config.snow.per_m3 = options.marine_snow_per_m3;

@@ -44,6 +44,9 @@ struct ScenarioOptions {
   // like the line): width in metres (0 = none) and paint colour.
   double painted_stripe_m = 0;
   std::string painted_stripe_colour = "white";  // white | yellow | green
+  // Lasers on in even frames only (thesis §5.4: detection on the difference
+  // of consecutive on and off frames, features tracked without the line).
+  bool laser_interleave = false;
 
   void Check() const;  // throws uwscan::Error naming the option
 };
@@ -67,6 +70,7 @@ struct Scenario {
   // Servo sweep of every laser source, linear from start to end over the
   // sequence (zero for lasers without servo).
   double servo_start_rad = 0.0, servo_end_rad = 0.0;
+  bool laser_interleave = false;  // lasers on in even frames only
   std::vector<CalibrationSet> calibration;
   // Explicit per-frame poses (motion type kViews); frames = views.size().
   std::vector<Rigid3d> views;

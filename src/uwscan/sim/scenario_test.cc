@@ -266,5 +266,42 @@ TEST(ScenarioTest, PaintedStripeIsOnTheFloorAndInSceneYaml) {
   EXPECT_THROW(MakeScenario("tank-target", options), Error);
 }
 
+// Interleaved lasers: on in even frames only, and a laser-off frame has
+// neither ground-truth laser points nor laser light in the image.
+TEST(ScenarioTest, InterleavedLasersAreOffInOddFrames) {
+  ScenarioOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.frames = 4;
+  options.laser_interleave = true;
+  const Scenario scenario = MakeScenario("tank-target", options);
+  const Trajectory trajectory(scenario.motion);
+  const Renderer renderer(scenario.config);
+  const FrameState on = scenario.FrameAt(trajectory, 2), off = scenario.FrameAt(trajectory, 3);
+  EXPECT_TRUE(on.lasers_on);
+  EXPECT_FALSE(off.lasers_on);
+  EXPECT_GT(renderer.LaserGroundTruth(on).size(), 50u);
+  EXPECT_TRUE(renderer.LaserGroundTruth(off).empty());
+  // The same frame rendered with and without the laser: the green signal
+  // (electrons before noise) differs only where the line is.
+  FrameState dark = on;
+  dark.lasers_on = false;
+  cv::Mat lit_channels[3], dark_channels[3];
+  cv::split(renderer.Render(on).electrons, lit_channels);
+  cv::split(renderer.Render(dark).electrons, dark_channels);
+  const cv::Mat extra = lit_channels[1] - dark_channels[1];
+  double max_extra = 0.0;
+  cv::minMaxLoc(extra, nullptr, &max_extra);
+  EXPECT_GT(max_extra, 100.0);
+  EXPECT_LT(cv::countNonZero(extra > 0.05 * max_extra), extra.total() / 10);
+  EXPECT_TRUE(MakeScenario("tank-target", ScenarioOptions{}).FrameAt(trajectory, 1).lasers_on);
+  // scene.yaml keeps it, so the dataset re-renders the same.
+  const std::string text = SceneToYaml(scenario);
+  EXPECT_NE(text.find("laser_interleave: true"), std::string::npos);
+  EXPECT_TRUE(ParseSceneYaml(text, "scene.yaml", scenario.config.rig).laser_interleave);
+  EXPECT_EQ(SceneToYaml(MakeScenario("tank-target", ScenarioOptions{})).find("laser_interleave"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace uwscan::sim

@@ -80,8 +80,9 @@ std::string SceneToYaml(const Scenario& s) {
       << "sequence:\n"
       << "  frames: " << s.frames << "\n"
       << "  frame_rate_hz: " << YamlNumber(s.frame_rate_hz) << "\n"
-      << "  motion_blur_samples: " << s.motion_blur_samples << "\n"
-      << "surfaces:\n";
+      << "  motion_blur_samples: " << s.motion_blur_samples << "\n";
+  if (s.laser_interleave) out << "  laser_interleave: true  # lasers on in even frames only\n";
+  out << "surfaces:\n";
   for (const Surface& surface : c.scene.surfaces) {
     out << "  - name: " << surface.name << "\n"
         << "    type: " << SurfaceTypeName(surface.type) << "\n"
@@ -188,6 +189,7 @@ Scenario ParseSceneYaml(const std::string& text, const std::string& source, cons
   s.frames = sequence.Integer("frames");
   s.frame_rate_hz = sequence.Number("frame_rate_hz");
   s.motion_blur_samples = sequence.Integer("motion_blur_samples");
+  s.laser_interleave = sequence.Has("laser_interleave") && sequence.Bool("laser_interleave");
   sequence.CheckNoUnknownKeys();
   UWS_CHECK(s.frames >= 1 && s.frame_rate_hz > 0 && s.motion_blur_samples >= 1, source,
             ": sequence needs frames >= 1, frame_rate_hz > 0 and motion_blur_samples >= 1");

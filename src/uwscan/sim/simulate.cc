@@ -55,7 +55,7 @@ void WriteCalibrationSet(const CalibrationSet& set, const fs::path& folder, Prog
     const RenderedFrame frame = renderer.Render(state);
     const std::string file = FrameFileName(static_cast<int>(i));
     WritePng(folder / file, frame.image);
-    frames.Add({static_cast<int>(i), static_cast<double>(i), file, std::nullopt});
+    frames.Add({static_cast<int>(i), static_cast<double>(i), file, std::nullopt, std::nullopt});
     truth.Add({static_cast<double>(i), state.world_from_camera});
     progress->Update(++*done);
   }
@@ -93,7 +93,7 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
     const Renderer renderer(scenario.config);
     const Trajectory trajectory(scenario.motion);
     const bool with_angle = !scenario.config.lasers.empty();
-    FramesCsvWriter frames(temp_dir / "frames.csv", with_angle);
+    FramesCsvWriter frames(temp_dir / "frames.csv", with_angle, scenario.laser_interleave);
     TumWriter truth(temp_dir / "groundtruth.tum");
     LaserTruthWriter laser_truth(temp_dir / "laser_gt.csv");
     for (int i = 0; i < scenario.frames; ++i) {
@@ -103,7 +103,7 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
       WritePng(temp_dir / file, frame.image);
       std::optional<double> angle;
       if (with_angle) angle = state.laser_angles_rad.front();
-      frames.Add({i, scenario.TimeOf(i), file, angle});
+      frames.Add({i, scenario.TimeOf(i), file, angle, state.lasers_on});
       truth.Add({scenario.TimeOf(i), state.world_from_camera});
       for (const LaserPoint& point : renderer.LaserGroundTruth(state)) {
         laser_truth.Add({i, point.laser, point.pixel.x(), point.pixel.y(),

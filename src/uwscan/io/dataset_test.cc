@@ -1,0 +1,75 @@
+#include "uwscan/io/dataset.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FramesCsvTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("uwscan_frames_csv_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path Write(const std::string& text) {
+    const fs::path path = dir_ / "frames.csv";
+    std::ofstream(path) << text;
+    return path;
+  }
+  fs::path dir_;
+};
+
+TEST_F(FramesCsvTest, RoundTripsAngleAndLaserOn) {
+  const fs::path path = dir_ / "written.csv";
+  {
+    FramesCsvWriter writer(path, /*with_laser_angle=*/true, /*with_laser_on=*/true);
+    writer.Add({0, 0.0, "frames/000000.png", 0.125, true});
+    writer.Add({1, 1.0 / 144, "frames/000001.png", -0.25, false});
+    writer.Commit();
+  }
+  const std::vector<FrameRecord> frames = ReadFramesCsv(path);
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[1].index, 1);
+  EXPECT_DOUBLE_EQ(frames[1].timestamp_s, 1.0 / 144);
+  EXPECT_DOUBLE_EQ(*frames[1].laser_angle_rad, -0.25);
+  EXPECT_TRUE(*frames[0].laser_on);
+  EXPECT_FALSE(*frames[1].laser_on);
+
+  const auto only_on = ReadFramesCsv(Write("index,timestamp_s,file,laser_on\n0,0,a.png,0\n"));
+  ASSERT_EQ(only_on.size(), 1u);
+  EXPECT_FALSE(only_on[0].laser_angle_rad.has_value());
+  EXPECT_FALSE(*only_on[0].laser_on);
+  const auto plain = ReadFramesCsv(Write("index,timestamp_s,file\n0,0,a.png\n"));
+  EXPECT_FALSE(plain[0].laser_on.has_value());  // always on
+}
+
+TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
+  const auto message = [&](const std::string& text) {
+    try {
+      ReadFramesCsv(Write(text));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("index,timestamp_s,file,laser_on,laser_angle_rad\n").find("header must be"),
+            std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file,laser_on\n0,0,a.png,yes\n").find("frames.csv:2"),
+            std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file,laser_on\n0,0,a.png,yes\n").find("laser_on must be"),
+            std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file,laser_on\n0,0,a.png\n").find("expected 4 fields"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace uwscan
