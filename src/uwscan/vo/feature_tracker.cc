@@ -112,10 +112,13 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
                                     options_.klt_max_iterations, 0.01);
     cv::calcOpticalFlowPyrLK(*previous_pyramid_, *pyramid, previous, current, status, error,
                              window, options_.klt_pyramid_levels, criteria);
+    // The backward pass starts where a consistent track must end (the
+    // previous position), so full resolution suffices: a track that does
+    // not come back to within the check from there is rejected either way.
+    // A quarter of the pyramid's work (each level costs the same per track).
     back = previous;
     cv::calcOpticalFlowPyrLK(*pyramid, *previous_pyramid_, current, back, status_back, error,
-                             window, options_.klt_pyramid_levels, criteria,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
+                             window, 0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
     if (options_.anchor_refinement && anchor_pyramid_) {
       RefineFromAnchor(*pyramid, window, criteria, &current);
     }
