@@ -369,10 +369,51 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
     for (int row = 0; row < image.rows; ++row) {
       FindLinePeaks(image, layout, row, o, &scratch, &peaks, &detection.stats);
     }
-    const auto segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
-    detection.stats.segments = static_cast<int>(segments.size());
+    if (o.keep_candidates) {
+      detection.candidates.reserve(peaks.size());
+      for (const Peak& p : peaks) {
+        LaserPoint point;
+        point.u = options.scan_rows ? p.position : p.line;
+        point.v = options.scan_rows ? p.line : p.position;
+        point.channel = p.channel;
+        point.strength = p.strength;
+        detection.candidates.push_back(point);
+      }
+    }
+    std::vector<Peak> all_peaks;
+    if (o.exclude_candidate) {
+      all_peaks = peaks;
+      peaks.erase(std::remove_if(peaks.begin(), peaks.end(),
+                                 [&](const Peak& p) {
+                                   return o.exclude_candidate(p.position, p.line);
+                                 }),
+                  peaks.end());
+      detection.stats.excluded_candidates = static_cast<int>(all_peaks.size() - peaks.size());
+    }
+    auto segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
     selected =
         SelectSegments(peaks, segments, image.rows, o.min_segment_lines, o.min_relative_strength);
+    const double excluded = detection.stats.excluded_candidates;
+    if (excluded > 0 && excluded > o.exclude_restore_fraction * (excluded + selected.size())) {
+      // Nearly the whole line would go: the sweep stalled or the scene is
+      // degenerate; keep what the frame shows.
+      peaks = std::move(all_peaks);
+      detection.stats.excluded_candidates = 0;
+      if (o.exclude_candidate_on_restore) {
+        const size_t before = peaks.size();
+        peaks.erase(std::remove_if(peaks.begin(), peaks.end(),
+                                   [&](const Peak& p) {
+                                     return o.exclude_candidate_on_restore(p.position, p.line);
+                                   }),
+                    peaks.end());
+        detection.stats.excluded_candidates = static_cast<int>(before - peaks.size());
+      }
+      segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
+      selected =
+          SelectSegments(peaks, segments, image.rows, o.min_segment_lines, o.min_relative_strength);
+      detection.stats.exclusion_restored = true;
+    }
+    detection.stats.segments = static_cast<int>(segments.size());
     for (const auto& [index, segment] : selected) {
       peaks[index].position = RefinePeak(image, layout, peaks[index], o, &scratch.raw);
     }

@@ -6,6 +6,7 @@
 // strength and segment id, plus a mask of the pixels the line covers.
 #pragma once
 
+#include <functional>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -52,6 +53,17 @@ struct DetectorOptions {
   // Baselines: fraction of the scan line's maximum above which pixels count.
   double cog_threshold = 0.5;
   double min_peak_intensity = 0.08;  // of full scale, for the baselines
+  // Thesis method: candidate peaks for which this returns true (position
+  // across the line in full-resolution px, scan line index) are dropped
+  // before the segments are formed (laser::SweepFilter: scene stripes) —
+  // unless they outnumber the selected line points by far (more than this
+  // share of both together): then the frame is detected without it.
+  std::function<bool(double position, int line)> exclude_candidate;
+  double exclude_restore_fraction = 0.8;
+  // On restoring, candidates this stricter test still flags stay excluded
+  // (empty: none); e.g. only what stands exactly where a stripe stood.
+  std::function<bool(double position, int line)> exclude_candidate_on_restore;
+  bool keep_candidates = false;  // fill Detection::candidates
   // Mask: pixels within this many sigmas of a detection are masked.
   double mask_sigmas = 3.0;
   bool make_mask = true;
@@ -72,10 +84,15 @@ struct DetectionStats {
   int segments = 0;
   int selected_segments = 0;
   int suppressed_cross_channel = 0;
+  int excluded_candidates = 0;      // by exclude_candidate (or the restore test)
+  bool exclusion_restored = false;  // nearly all would have gone: kept
 };
 
 struct Detection {
   std::vector<LaserPoint> points;  // at most one per scan line
+  // With keep_candidates: every candidate peak before exclusion and
+  // selection (coarse positions, strength), for laser::SweepFilter.
+  std::vector<LaserPoint> candidates;
   cv::Mat mask;                    // CV_8U, 255 where the line is; empty if !make_mask
   DetectionStats stats;
 };

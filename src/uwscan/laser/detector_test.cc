@@ -110,6 +110,39 @@ TEST(LaserDetector, PaintedStripeIsNotTakenForTheLaser) {
   }
 }
 
+// A stripe that a mono camera cannot tell from the line by colour, brighter
+// than it: excluded as a candidate (laser::SweepFilter's verdict), the laser
+// wins every scan line; when nearly everything would be excluded, the frame
+// is detected as it is.
+TEST(LaserDetector, ExcludedCandidatesLetTheWeakerLineWin) {
+  SyntheticLineOptions o;
+  o.stripe = true;
+  o.amplitude = 0.3;
+  o.stripe_amplitude = 0.6;
+  const SyntheticLine line = RenderSyntheticLine(o);
+  DetectorOptions options;
+  options.keep_candidates = true;
+  const Detection plain = DetectLaserLine(line.image, ColourLayout::kMono, options);
+  EXPECT_GT(Evaluate(plain, line).outliers, 0.5);  // the stripe wins
+  EXPECT_GE(plain.candidates.size(), 2 * line.truth.size());
+  const auto stripe_u = [&](int v) { return o.stripe_u0 + o.stripe_slope * (v - o.height / 2.0); };
+  options.exclude_candidate = [&](double position, int row) {
+    return std::abs(position - stripe_u(row)) < 3.0;
+  };
+  const Detection excluded = DetectLaserLine(line.image, ColourLayout::kMono, options);
+  const Score score = Evaluate(excluded, line);
+  EXPECT_GT(score.completeness, 0.95);
+  EXPECT_LT(score.outliers, 0.01);
+  EXPECT_GE(excluded.stats.excluded_candidates, o.height * 9 / 10);
+  EXPECT_FALSE(excluded.stats.exclusion_restored);
+  // Everything excluded: restored, as without exclusion.
+  options.exclude_candidate = [](double, int) { return true; };
+  const Detection restored = DetectLaserLine(line.image, ColourLayout::kMono, options);
+  EXPECT_TRUE(restored.stats.exclusion_restored);
+  EXPECT_EQ(restored.stats.excluded_candidates, 0);
+  EXPECT_EQ(restored.points.size(), plain.points.size());
+}
+
 TEST(LaserDetector, FrameWithoutLaserGivesNoPoints) {
   SyntheticLineOptions o;
   o.layout = ColourLayout::kBayerRggb;

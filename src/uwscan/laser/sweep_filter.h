@@ -1,14 +1,19 @@
-// Motion-based scoring of line detections for a laser on a servo (thesis
+// Motion-based scoring of line candidates for a laser on a servo (thesis
 // §5.5, "active features"): when the sheet turns, the line it draws on the
 // scene moves across the image by about focal x angle; a bright stripe
 // painted on the scene (or a reflection) stays where it is, moving only with
-// the platform's slow hover. Detections that stay put on their scan line
-// while the sheet has turned far enough to move the line are not the laser
-// and are removed. If that would remove nearly all of a frame's
-// detections, they are kept (the thesis restores demoted detections when too
-// many would go): the sweep may have stalled or the scene be degenerate.
-// Without a servo (no angles, or the angle does not change) nothing is
-// removed: line and stripe cannot be told apart this way.
+// the platform's slow hover. Candidate peaks that stand where a candidate
+// stood in an earlier frame the sheet has turned far enough from are not the
+// laser: they are excluded before the detector picks one peak per scan line,
+// so that where a stripe outshone the line, the line itself is found. The
+// memory is of all candidates, not only of the selected ones: a stripe is a
+// candidate in every frame but wins a scan line only where the laser is weak.
+//
+// If nearly all of a frame's line would go, the detector keeps it (the
+// thesis restores demoted detections when too many would go): the sweep may
+// have stalled or the scene be degenerate. Without a servo (no angles, or
+// the angle does not change) nothing is excluded: line and stripe cannot be
+// told apart this way.
 #pragma once
 
 #include <deque>
@@ -19,35 +24,51 @@
 namespace uwscan::laser {
 
 struct SweepFilterOptions {
-  double focal_px = 500.0;               // camera focal length across the line
-  bool scan_rows = true;                 // as DetectorOptions::scan_rows
-  double min_expected_shift_px = 8.0;    // compare with a frame the sheet has turned this far from
-  int max_lag_frames = 40;               // ... at most this many frames ago (slow platform motion)
-  double static_tolerance_px = 2.0;      // "stayed put": within this, or a quarter of the shift
-  double restore_fraction = 0.8;         // keep all if more than this share would be removed
-  int line_search = 3;                   // reference scan lines looked at on each side
+  double focal_px = 500.0;             // camera focal length across the line
+  bool scan_rows = true;               // as DetectorOptions::scan_rows
+  double min_expected_shift_px = 8.0;  // compare with a frame the sheet has turned this far from
+  int max_lag_frames = 40;             // ... at most this many frames ago (slow platform motion)
+  // "Stood there": within this, or this share of the sheet's shift since
+  // (the scene drifts across the image with the hover meanwhile; half the
+  // shift is the midpoint between "stayed with the scene" and "moved with
+  // the sheet").
+  double static_tolerance_px = 2.0;
+  double tolerance_of_shift = 0.5;
+  int line_search = 1;                 // reference scan lines looked at on each side
   void Check() const;
 };
 
 class SweepFilter {
  public:
   explicit SweepFilter(const SweepFilterOptions& options);
-  // The detections of frame `frame` with the sheet at `servo_angle_rad`,
-  // without those that stayed put; `removed` gets their count.
-  std::vector<LaserPoint> Filter(int frame, double servo_angle_rad,
-                                 const std::vector<LaserPoint>& points, int* removed);
+  // Starts frame `frame` with the sheet at `servo_angle_rad`: picks the
+  // earlier frames the sheet has turned far enough from.
+  void Begin(int frame, double servo_angle_rad);
+  // Whether a candidate at `position` (across the line, full-resolution px)
+  // on scan line `line` stood there in one of those frames.
+  // `strict`: within static_tolerance_px only, whatever the shift.
+  bool IsStatic(double position, int line, bool strict = false) const;
+  // Remembers the frame's candidates (all peaks, before selection).
+  void End(const std::vector<LaserPoint>& candidates);
+  // DetectorOptions::exclude_candidate for the current frame (valid until
+  // the filter is destroyed; empty before the sheet has turned far enough).
+  std::function<bool(double, int)> Predicate(bool strict = false) const;
 
  private:
   struct Past {
-    int frame;
-    double angle_rad;
-    // Across-line position per scan line (NaN: none), offset by first_line.
+    int frame = 0;
+    double angle_rad = 0.0;
+    // Candidate positions per scan line: positions[line_start[l - first_line] ..
+    // line_start[l - first_line + 1]).
     int first_line = 0;
-    std::vector<float> position_by_line;
-    float At(int line) const;
+    std::vector<int> line_start;
+    std::vector<float> positions;
   };
   SweepFilterOptions options_;
   std::deque<Past> history_;
+  int frame_ = 0;
+  double angle_rad_ = 0.0;
+  std::vector<std::pair<const Past*, double>> references_;  // frame, tolerance
 };
 
 }  // namespace uwscan::laser

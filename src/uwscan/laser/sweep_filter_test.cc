@@ -11,50 +11,52 @@ std::vector<LaserPoint> Column(double u, int first_row, int rows) {
   return points;
 }
 
-// A line that moves with the servo (1 px per frame at focal 500 px and
-// 2 mrad per frame) and a stripe that stays at u = 100 on rows 0-19: from the
-// frame the sheet has turned 8 px on, the stripe's detections go, the line's
-// stay.
-TEST(SweepFilter, RemovesWhatStaysPutWhileTheSheetSweeps) {
+// Candidates of a line that moves with the servo (1 px per frame at focal
+// 500 px and 2 mrad per frame) and of a stripe that stays at u = 100: from
+// the frame the sheet has turned 8 px on, the stripe's candidates are
+// static, the line's are not (nor is anything between them).
+TEST(SweepFilter, FlagsCandidatesThatStayPutWhileTheSheetSweeps) {
   SweepFilterOptions options;
   options.focal_px = 500.0;
   SweepFilter filter(options);
-  int total_removed = 0;
   for (int frame = 0; frame < 30; ++frame) {
-    std::vector<LaserPoint> points = Column(300.0 + frame, 20, 200);  // the laser
-    const auto stripe = Column(100.2, 0, 20);
-    points.insert(points.end(), stripe.begin(), stripe.end());
-    int removed = 0;
-    const auto kept = filter.Filter(frame, 0.002 * frame, points, &removed);
-    total_removed += removed;
+    filter.Begin(frame, 0.002 * frame);
+    const double laser_u = 300.0 + frame;
     if (frame >= 8) {  // 500 px x 0.016 rad = 8 px since frame 0
-      EXPECT_EQ(removed, 20) << frame;
-      for (const LaserPoint& p : kept) EXPECT_GT(p.u, 299.0);
+      ASSERT_TRUE(filter.Predicate());
+      EXPECT_TRUE(filter.IsStatic(100.3, 50)) << frame;
+      EXPECT_TRUE(filter.Predicate()(99.1, 120)) << frame;
+      EXPECT_FALSE(filter.IsStatic(laser_u, 50)) << frame;
+      EXPECT_FALSE(filter.IsStatic(200.0, 50)) << frame;
+      EXPECT_FALSE(filter.IsStatic(100.3, 500)) << frame;  // no candidates on that line
+      // Strict: only within static_tolerance_px (2 px), whatever the shift.
+      EXPECT_TRUE(filter.IsStatic(102.0, 50, /*strict=*/true)) << frame;
+      EXPECT_FALSE(filter.IsStatic(103.5, 50, /*strict=*/true)) << frame;
     } else {
-      EXPECT_EQ(removed, 0) << frame;  // the sheet has not turned far enough yet
+      EXPECT_FALSE(filter.Predicate()) << frame;  // the sheet has not turned far enough
+      EXPECT_FALSE(filter.IsStatic(100.3, 50));
     }
+    std::vector<LaserPoint> candidates = Column(laser_u, 0, 200);
+    const auto stripe = Column(100.2, 0, 200);
+    candidates.insert(candidates.end(), stripe.begin(), stripe.end());
+    filter.End(candidates);
   }
-  EXPECT_EQ(total_removed, 22 * 20);
 }
 
-// Without a sweep (constant angle) nothing can be told apart: nothing goes.
-// And when nearly everything stayed put, all is kept (the sweep stalled).
-TEST(SweepFilter, KeepsAllWithoutASweepOrWhenNearlyAllStayed) {
+// Without a sweep (constant angle) nothing can be told apart: no verdicts.
+TEST(SweepFilter, NothingIsStaticWithoutASweep) {
   SweepFilterOptions options;
   options.focal_px = 500.0;
   SweepFilter still(options);
   for (int frame = 0; frame < 20; ++frame) {
-    int removed = 0;
-    EXPECT_EQ(still.Filter(frame, 0.1, Column(300.0, 0, 100), &removed).size(), 100u);
-    EXPECT_EQ(removed, 0);
+    still.Begin(frame, 0.1);
+    EXPECT_FALSE(still.Predicate());
+    EXPECT_FALSE(still.IsStatic(300.0, 10));
+    still.End(Column(300.0, 0, 100));
   }
-  SweepFilter stalled(options);
-  for (int frame = 0; frame < 20; ++frame) {
-    int removed = 0;
-    // The line does not move although the angle changes (a degenerate scene).
-    EXPECT_EQ(stalled.Filter(frame, 0.002 * frame, Column(300.0, 0, 100), &removed).size(), 100u);
-    EXPECT_EQ(removed, 0);
-  }
+  SweepFilterOptions bad = options;
+  bad.focal_px = 0.0;
+  EXPECT_ANY_THROW(SweepFilter{bad});
 }
 
 }  // namespace

@@ -84,12 +84,13 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the tracked frames (low contrast: turbid water or a dark, bare "
                        "scene); expect a less accurate trajectory");
   }
-  if (static_detections_removed > 0) {
-    warnings.push_back(std::to_string(static_detections_removed) + " line detection(s) in " +
-                       std::to_string(frames_with_static_detections) +
-                       " frame(s) stayed put while the laser swept (a stripe or a reflection in "
-                       "the scene taken for the line, or a surface the sheet grazes): removed "
-                       "(--keep-static-detections keeps them)");
+  if (frames_with_static_detections > 0) {
+    warnings.push_back("in " + std::to_string(frames_with_static_detections) +
+                       " frame(s) line candidates on 5 % or more of the scan lines stayed put "
+                       "while the laser swept (a stripe or a reflection in the scene that could "
+                       "be taken for the line, or a surface the sheet grazes): ignored, " +
+                       std::to_string(static_detections_removed) +
+                       " in all (--keep-static-detections keeps them)");
   }
   if (count("implausible_poses_rejected") > 0) {
     warnings.push_back(std::to_string(count("implausible_poses_rejected")) +
@@ -108,7 +109,8 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"points", points},
           {"points_uncompensated", points_uncompensated},
           {"triangulation_failures", triangulation_failures},
-          {"static_detections_removed", static_detections_removed},
+          {"static_candidates_ignored", static_detections_removed},
+          {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},
           {"pose", pose_details},
           {"timing_s",
@@ -166,6 +168,33 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     sweep.scan_rows = detector.scan_rows;
     sweep.focal_px = detector.scan_rows ? camera.intrinsics[0] : camera.intrinsics[1];
     sweep_filter.emplace(sweep);
+    // The first frames have no earlier frame the sheet has turned far
+    // enough from: remember the candidates of the first later frame that
+    // is (a fraction of a second ahead, the platform has hardly moved), so
+    // that a stripe is recognised from the first frame on. Interleaved
+    // scans need no such help (their difference images hold no stripe).
+    const bool interleaved = !frames.empty() && frames.front().laser_on.has_value();
+    if (!interleaved && !frames.empty() && frames.front().laser_angle_rad) {
+      const double start = *frames.front().laser_angle_rad;
+      for (size_t k = 1; k < frames.size() && k <= size_t(sweep.max_lag_frames); ++k) {
+        if (!frames[k].laser_angle_rad ||
+            sweep.focal_px * std::abs(*frames[k].laser_angle_rad - start) <
+                2.0 * sweep.min_expected_shift_px) {
+          continue;
+        }
+        const cv::Mat ahead = ReadImage(job.dataset / frames[k].file);
+        if (ahead.cols != camera.width || ahead.rows != camera.height) break;  // reported later
+        laser::DetectorOptions candidates_only = detector;
+        candidates_only.keep_candidates = true;
+        candidates_only.make_mask = false;
+        sweep_filter->Begin(frames[k].index, *frames[k].laser_angle_rad);
+        sweep_filter->End(
+            laser::DetectLaserLine(ahead, laser::LayoutFor(camera.bayer, ahead.channels()),
+                                   candidates_only)
+                .candidates);
+        break;
+      }
+    }
   }
   report.sequence_duration_s =
       frames.size() > 1
@@ -235,26 +264,42 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
       // looked for in the raw image, where the scene could pass for it.
     } else if (!laser_off) {
       const auto layout = laser::LayoutFor(camera.bayer, image.channels());
+      // Servo scans: candidates standing where candidates stood while the
+      // sheet turned are a stripe or reflection, not the line (§5.5).
+      laser::DetectorOptions frame_detector = detector;
+      const bool sweeping = sweep_filter && record.laser_angle_rad;
+      if (sweeping) {
+        sweep_filter->Begin(record.index, *record.laser_angle_rad);
+        frame_detector.exclude_candidate = sweep_filter->Predicate();
+        // Where the line runs along a stripe, nearly all would go: then only
+        // what stands exactly where the stripe stood is left out.
+        frame_detector.exclude_candidate_on_restore = sweep_filter->Predicate(/*strict=*/true);
+        frame_detector.keep_candidates = true;
+      }
       if (difference) {
         cv::Mat lit_only;
         cv::subtract(image, dark_image, lit_only);  // saturates at 0
-        detection = laser::DetectLaserLine(lit_only, layout, detector);
+        detection = laser::DetectLaserLine(lit_only, layout, frame_detector);
         ++report.frames_on_difference;
       } else {
-        detection = laser::DetectLaserLine(image, layout, detector);
+        detection = laser::DetectLaserLine(image, layout, frame_detector);
+      }
+      if (sweeping) {
+        sweep_filter->End(detection.candidates);
+        detection.candidates = {};
+        report.static_detections_removed += detection.stats.excluded_candidates;
+        // Noise and texture peaks are ignored now and then on any scene; a
+        // stripe or reflection shows on many scan lines of a frame.
+        report.frames_with_static_detections +=
+            detection.stats.excluded_candidates >= 0.05 * report.scan_lines;
+        report.frames_sweep_filter_restored += detection.stats.exclusion_restored;
       }
     } else {
       ++report.frames_laser_off;
       dark_image = image;
       dark_frame = i;
     }
-    std::vector<laser::LaserPoint> line_points = detection.points;
-    if (sweep_filter && record.laser_angle_rad && !laser_off) {
-      int removed = 0;
-      line_points = sweep_filter->Filter(record.index, *record.laser_angle_rad, line_points, &removed);
-      report.static_detections_removed += removed;
-      report.frames_with_static_detections += removed > 0;
-    }
+    const std::vector<laser::LaserPoint>& line_points = detection.points;
     report.seconds_detect += Seconds(t);
 
     t = std::chrono::steady_clock::now();

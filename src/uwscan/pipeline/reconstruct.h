@@ -25,7 +25,7 @@ struct ReconstructJob {
   std::string laser_name;           // default: the first laser
   laser::DetectorOptions detector;  // scan direction and colour come from the rig
   fusion::SelfReferencedOptions self_referenced;
-  // Servo datasets: drop line detections that stay put while the sheet
+  // Servo datasets: ignore line candidates that stay put while the sheet
   // sweeps (laser/sweep_filter.h, thesis §5.5).
   bool sweep_filter = true;
   // Interleaved datasets (frames.csv laser_on): detect the line in the
@@ -45,8 +45,9 @@ struct ReconstructReport {
   long points = 0;
   long points_uncompensated = 0;
   long triangulation_failures = 0;
-  long static_detections_removed = 0;  // by the sweep filter
-  int frames_with_static_detections = 0;
+  long static_detections_removed = 0;  // line candidates ignored by the sweep filter
+  int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
+  int frames_sweep_filter_restored = 0;  // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   double sequence_duration_s = 0.0;  // from the frame timestamps
