@@ -38,6 +38,8 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--no-difference-image", *no_difference,
                 "interleaved scans: detect the line in the laser-on frame itself, not in its "
                 "difference to the laser-off frame before it");
+  cmd->add_flag("--async-ba", job->self_referenced.odometry.async_bundle_adjustment,
+                "windowed BA on a second thread (faster; results then depend on thread timing)");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
   cmd->callback([=] {
     job->dataset = *dataset;

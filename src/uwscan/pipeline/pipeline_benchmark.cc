@@ -33,6 +33,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   job.dataset = dataset;
   job.out = scratch / "result";
   job.quiet = true;
+  job.self_referenced.odometry.async_bundle_adjustment = options.async_bundle_adjustment;
   ReconstructReport report;
   try {
     report = RunReconstruct(job);
@@ -45,6 +46,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   getrusage(RUSAGE_SELF, &usage);
   nlohmann::json json = report.ToJson();
   json["benchmark"] = "pipeline";
+  json["async_bundle_adjustment"] = options.async_bundle_adjustment;
   json["dataset"] = options.dataset.empty() ? "simulated tank-target" : options.dataset.string();
   json["simulation_s_not_timed"] = simulate_seconds;
   json["frames_per_second"] = report.frames / std::max(report.seconds, 1e-9);

@@ -13,6 +13,7 @@ struct PipelineBenchmarkOptions {
   int frames = 300;
   int width = 1280;
   int height = 960;
+  bool async_bundle_adjustment = false;  // as reconstruct --async-ba
   void Check() const;
 };
 

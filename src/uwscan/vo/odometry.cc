@@ -54,6 +54,7 @@ void OdometryOptions::Check() const {
   UWS_CHECK(min_init_matches >= 8, "min_init_matches must be >= 8");
   UWS_CHECK(init_parallax_fraction > 0 && keyframe_parallax_fraction > 0,
             "parallax fractions must be > 0");
+  UWS_CHECK(max_frames_between_keyframes >= 0, "max_frames_between_keyframes must be >= 0");
   UWS_CHECK(keyframe_min_tracked_ratio >= 0 && keyframe_min_tracked_ratio < 1,
             "keyframe_min_tracked_ratio must be in [0, 1)");
   UWS_CHECK(max_init_frames >= 2, "max_init_frames must be >= 2");
@@ -416,7 +417,10 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     const auto it = last.observations.find(tr.id);
     if (it != last.observations.end()) flow.push_back((tr.pixel - it->second).norm());
   }
-  const bool keyframe = Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
+  const bool keyframe = (options_.max_frames_between_keyframes > 0 &&
+                         result->frame_index - last.frame_index >=
+                             options_.max_frames_between_keyframes) ||
+                        Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
                         inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
                         (options_.keyframe_on_range_constraints && !ranges.empty());
   if (keyframe) AddKeyframe(camera_from_world, mask, ranges, result);

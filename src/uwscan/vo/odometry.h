@@ -61,6 +61,12 @@ struct OdometryOptions {
   // A keyframe is also made when the tracked map points fall below this
   // fraction of those of the last keyframe.
   double keyframe_min_tracked_ratio = 0.6;
+  // ... and at the latest after this many frames (0 = never): a hovering
+  // platform makes no parallax, and without keyframes the windowed BA and
+  // the laser depths of new points (fusion) never refresh the map — on the
+  // 2000-frame hover the target's plane std went 3.2 -> 1.7 mm with 30
+  // (0.2 s at 144 Hz).
+  int max_frames_between_keyframes = 30;
   int max_init_frames = 40;  // the initialisation reference is renewed after this
   int min_pnp_inliers = 15;
   int max_refine_points = 150;  // pose refinement uses at most this many inliers

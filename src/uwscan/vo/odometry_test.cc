@@ -216,6 +216,36 @@ TEST(Odometry, RangeConstraintsMakeTheTrajectoryMetric) {
 // laser has not swept yet) are measured again once the surface there is
 // measured, and moved when they were wrong: here the extrapolation puts
 // every point 25 % too far until frame 15, then the true surface appears.
+// A hover (millimetres, no parallax) still gets a keyframe at least every
+// max_frames_between_keyframes frames, so the window keeps adjusting.
+TEST(Odometry, HoverGetsRegularKeyframes) {
+  const Camera camera = testing::ScaledCamera(Camera::Flat1(), 0.25);
+  const TexturedTerrain terrain(SmallTerrain());
+  PlaneRenderer renderer(camera, terrain);
+  OdometryOptions options;
+  options.max_frames_between_keyframes = 10;
+  options.surface = [&](const Eigen::Vector3d& origin,
+                        const Eigen::Vector3d& direction) -> std::optional<SurfaceHit> {
+    const auto hit = terrain.Intersect(origin, direction);
+    if (!hit) return std::nullopt;
+    return SurfaceHit{*hit, 0.002, false};
+  };
+  const auto pose = [](int i) {
+    return testing::DownwardPose({0.001 * std::sin(0.3 * i), 0.001 * std::cos(0.2 * i), 2.0});
+  };
+  Odometry odometry(camera, options);
+  ASSERT_EQ(odometry.InitializeFromSurface(renderer.Render(pose(0)), cv::Mat(), 0.0, pose(0)).status,
+            FrameStatus::kTracked);
+  std::vector<int> keyframes;
+  for (int i = 1; i <= 35; ++i) {
+    const FrameResult result = odometry.ProcessFrame(renderer.Render(pose(i)), cv::Mat(), 0.01 * i);
+    ASSERT_EQ(result.status, FrameStatus::kTracked) << i;
+    if (result.keyframe) keyframes.push_back(i);
+    EXPECT_LT((result.world_from_camera->translation - pose(i).translation).norm(), 0.002) << i;
+  }
+  EXPECT_EQ(keyframes, (std::vector<int>{10, 20, 30}));
+}
+
 TEST(Odometry, ExtrapolatedDepthsAreMeasuredAgain) {
   const Camera camera = testing::ScaledCamera(Camera::Flat1(), 0.25);
   const TexturedTerrain terrain(SmallTerrain());
