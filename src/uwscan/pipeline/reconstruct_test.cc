@@ -86,27 +86,41 @@ TEST_F(ReconstructTest, DriftingPosesDegradeTheCloud) {
   EXPECT_GT(evaluation.compensated.point_error_rms_m, 0.005);
 }
 
-// Thesis §5.4: with the laser on in every other frame the line is found in
-// the difference to the laser-off frame before, where a white stripe painted
-// beside the target (bright in every colour, taken for the line in a single
-// frame) cancels; the laser-off frames carry no line and no mask.
-TEST(ReconstructInterleaved, DifferenceImagesIgnoreAPaintedStripe) {
+// An empty temporary folder of this test process.
+fs::path TempFolder(const std::string& name) {
   const fs::path root =
-      fs::temp_directory_path() / ("uwscan_interleaved_test_" + std::to_string(::getpid()));
+      fs::temp_directory_path() / ("uwscan_" + name + "_test_" + std::to_string(::getpid()));
   fs::remove_all(root);
+  return root;
+}
+
+// A tank-target scan at 480x360 with a white stripe painted beside the
+// target, simulated into root/data, and a job placing it with the true poses.
+ReconstructJob StripeScanWithTruePoses(const fs::path& root, int frames, uint64_t seed,
+                                       bool interleave) {
   sim::ScenarioOptions options;
   options.width = 480;
   options.height = 360;
-  options.frames = 24;
-  options.seed = 23;
+  options.frames = frames;
+  options.seed = seed;
   options.painted_stripe_m = 0.02;
   options.painted_stripe_colour = "white";
-  options.laser_interleave = true;
+  options.laser_interleave = interleave;
   sim::SimulateScenario("tank-target", options, root / "data");
   ReconstructJob job;
   job.dataset = root / "data";
   job.poses_file = job.dataset / "groundtruth.tum";
   job.quiet = true;
+  return job;
+}
+
+// Thesis §5.4: with the laser on in every other frame the line is found in
+// the difference to the laser-off frame before, where a white stripe painted
+// beside the target (bright in every colour, taken for the line in a single
+// frame) cancels; the laser-off frames carry no line and no mask.
+TEST(ReconstructInterleaved, DifferenceImagesIgnoreAPaintedStripe) {
+  const fs::path root = TempFolder("interleaved");
+  ReconstructJob job = StripeScanWithTruePoses(root, 24, 23, /*interleave=*/true);
   job.out = root / "difference";
   const ReconstructReport report = RunReconstruct(job);
   EXPECT_EQ(report.frames_laser_off, 12);
@@ -135,21 +149,8 @@ TEST(ReconstructInterleaved, DifferenceImagesIgnoreAPaintedStripe) {
 // detector picks one peak per scan line, so the laser is found where the
 // stripe outshone it; without the filter the stripe is triangulated.
 TEST(ReconstructSweepFilter, StaticCandidatesOfAPaintedStripeAreIgnored) {
-  const fs::path root =
-      fs::temp_directory_path() / ("uwscan_sweep_filter_test_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = 40;
-  options.seed = 29;
-  options.painted_stripe_m = 0.02;
-  options.painted_stripe_colour = "white";
-  sim::SimulateScenario("tank-target", options, root / "data");
-  ReconstructJob job;
-  job.dataset = root / "data";
-  job.poses_file = job.dataset / "groundtruth.tum";
-  job.quiet = true;
+  const fs::path root = TempFolder("sweep_filter");
+  ReconstructJob job = StripeScanWithTruePoses(root, 40, 29, /*interleave=*/false);
   job.out = root / "filtered";
   const ReconstructReport report = RunReconstruct(job);
   EXPECT_GT(report.frames_with_static_detections, 20);
