@@ -131,6 +131,18 @@ TEST_F(FeatureTrackerTest, ReacquiresTracksBehindTheLaserLine) {
   EXPECT_LT(errors_on.back(), 1.0);  // no track taken up at a wrong corner
 }
 
+// Harris runs per cell that needs features; with no border margin the
+// cells' regions reach the image edge and must stay inside it.
+TEST_F(FeatureTrackerTest, DetectsWithoutABorderMargin) {
+  FeatureTrackerOptions options;
+  options.border_px = 0.0;
+  FeatureTracker tracker(options);
+  tracker.Track(renderer_.Render(testing::DownwardPose({0, 0, 2})), cv::Mat());
+  EXPECT_GT(tracker.Detect(cv::Mat()), tracker.target_count() * 3 / 4);
+  // A second call fills only the cells that lost features: none here.
+  EXPECT_EQ(tracker.Detect(cv::Mat()), 0);
+}
+
 TEST_F(FeatureTrackerTest, NoFeaturesOnBlackOrTexturelessFrames) {
   FeatureTracker tracker;
   tracker.Track(renderer_.Render(testing::DownwardPose({0, 0, 2})), cv::Mat());
