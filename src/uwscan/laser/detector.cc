@@ -167,6 +167,26 @@ bool StrongerInOtherChannel(const cv::Mat& image, ColourLayout layout, int row,
   return false;
 }
 
+// A peak (scan-line coordinates) as an image point.
+LaserPoint ToLaserPoint(const Peak& p, bool scan_rows) {
+  LaserPoint point;
+  point.u = scan_rows ? p.position : p.line;
+  point.v = scan_rows ? p.line : p.position;
+  point.channel = p.channel;
+  point.strength = p.strength;
+  return point;
+}
+
+// Drops the peaks `exclude` flags (position along the scan line, line);
+// returns how many.
+int ExcludePeaks(const std::function<bool(double, int)>& exclude, std::vector<Peak>* peaks) {
+  const size_t before = peaks->size();
+  peaks->erase(std::remove_if(peaks->begin(), peaks->end(),
+                              [&](const Peak& p) { return exclude(p.position, p.line); }),
+               peaks->end());
+  return static_cast<int>(before - peaks->size());
+}
+
 // Thesis method, steps 1-4 and 7 on one scan line: peaks of the laser channel.
 void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const DetectorOptions& o,
                    Scratch* s, std::vector<Peak>* peaks, DetectionStats* stats) {
@@ -371,24 +391,13 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
     }
     if (o.keep_candidates) {
       detection.candidates.reserve(peaks.size());
-      for (const Peak& p : peaks) {
-        LaserPoint point;
-        point.u = options.scan_rows ? p.position : p.line;
-        point.v = options.scan_rows ? p.line : p.position;
-        point.channel = p.channel;
-        point.strength = p.strength;
-        detection.candidates.push_back(point);
-      }
+      for (const Peak& p : peaks)
+        detection.candidates.push_back(ToLaserPoint(p, options.scan_rows));
     }
     std::vector<Peak> all_peaks;
     if (o.exclude_candidate) {
       all_peaks = peaks;
-      peaks.erase(std::remove_if(peaks.begin(), peaks.end(),
-                                 [&](const Peak& p) {
-                                   return o.exclude_candidate(p.position, p.line);
-                                 }),
-                  peaks.end());
-      detection.stats.excluded_candidates = static_cast<int>(all_peaks.size() - peaks.size());
+      detection.stats.excluded_candidates = ExcludePeaks(o.exclude_candidate, &peaks);
     }
     auto segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
     selected =
@@ -398,16 +407,8 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
       // Nearly the whole line would go: the sweep stalled or the scene is
       // degenerate; keep what the frame shows.
       peaks = std::move(all_peaks);
-      detection.stats.excluded_candidates = 0;
-      if (o.exclude_candidate_on_restore) {
-        const size_t before = peaks.size();
-        peaks.erase(std::remove_if(peaks.begin(), peaks.end(),
-                                   [&](const Peak& p) {
-                                     return o.exclude_candidate_on_restore(p.position, p.line);
-                                   }),
-                    peaks.end());
-        detection.stats.excluded_candidates = static_cast<int>(before - peaks.size());
-      }
+      detection.stats.excluded_candidates =
+          o.exclude_candidate_on_restore ? ExcludePeaks(o.exclude_candidate_on_restore, &peaks) : 0;
       segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
       selected =
           SelectSegments(peaks, segments, image.rows, o.min_segment_lines, o.min_relative_strength);
@@ -431,12 +432,7 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
 
   detection.points.reserve(selected.size());
   for (const auto& [index, segment] : selected) {
-    const Peak& p = peaks[index];
-    LaserPoint point;
-    point.u = options.scan_rows ? p.position : p.line;
-    point.v = options.scan_rows ? p.line : p.position;
-    point.channel = p.channel;
-    point.strength = p.strength;
+    LaserPoint point = ToLaserPoint(peaks[index], options.scan_rows);
     point.segment = segment;
     detection.points.push_back(point);
   }

@@ -27,7 +27,8 @@ void SweepFilter::Begin(int frame, double servo_angle_rad) {
   for (const Past& past : history_) {
     const double shift = options_.focal_px * std::abs(servo_angle_rad - past.angle_rad);
     if (shift >= options_.min_expected_shift_px)
-      references_.emplace_back(&past, std::max(options_.static_tolerance_px, options_.tolerance_of_shift * shift));
+      references_.emplace_back(
+          &past, std::max(options_.static_tolerance_px, options_.tolerance_of_shift * shift));
   }
 }
 

@@ -54,10 +54,13 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   }
   if (frames_with_line > 0 && scan_lines > 0 &&
       static_cast<double>(points) / frames_with_line < 0.5 * scan_lines) {
-    warnings.push_back("the profiles are short: " +
-                       std::to_string(points / std::max(frames_with_line, 1)) + " points per frame "
-                       "of " + std::to_string(scan_lines) + " scan lines (the line fades into "
-                       "the water or leaves the scene)");
+    warnings.push_back(
+        "the profiles are short: " + std::to_string(points / std::max(frames_with_line, 1)) +
+        " points per frame "
+        "of " +
+        std::to_string(scan_lines) +
+        " scan lines (the line fades into "
+        "the water or leaves the scene)");
   }
   if (frames_without_pose > 0) {
     warnings.push_back(std::to_string(frames_without_pose) + " frame(s) (" +
@@ -163,6 +166,27 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   report.pose_source = provider->Name();
   report.scan_lines = detector.scan_rows ? camera.height : camera.width;
   std::optional<laser::SweepFilter> sweep_filter;
+  // The line in one frame; on servo scans, candidates standing where
+  // candidates stood while the sheet turned are a stripe or reflection, not
+  // the line (§5.5), and where nearly all would go (the line runs along a
+  // stripe) only what stands exactly where the stripe stood is left out.
+  const auto detect_line = [&](const cv::Mat& image, const FrameRecord& record) {
+    laser::DetectorOptions options = detector;
+    const bool sweeping = sweep_filter && record.laser_angle_rad;
+    if (sweeping) {
+      sweep_filter->Begin(record.index, *record.laser_angle_rad);
+      options.exclude_candidate = sweep_filter->Predicate();
+      options.exclude_candidate_on_restore = sweep_filter->Predicate(/*strict=*/true);
+      options.keep_candidates = true;
+    }
+    laser::Detection detection =
+        laser::DetectLaserLine(image, laser::LayoutFor(camera.bayer, image.channels()), options);
+    if (sweeping) {
+      sweep_filter->End(detection.candidates);
+      detection.candidates = {};
+    }
+    return detection;
+  };
   if (job.sweep_filter) {
     laser::SweepFilterOptions sweep;
     sweep.scan_rows = detector.scan_rows;
@@ -184,14 +208,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
         }
         const cv::Mat ahead = ReadImage(job.dataset / frames[k].file);
         if (ahead.cols != camera.width || ahead.rows != camera.height) break;  // reported later
-        laser::DetectorOptions candidates_only = detector;
-        candidates_only.keep_candidates = true;
-        candidates_only.make_mask = false;
-        sweep_filter->Begin(frames[k].index, *frames[k].laser_angle_rad);
-        sweep_filter->End(
-            laser::DetectLaserLine(ahead, laser::LayoutFor(camera.bayer, ahead.channels()),
-                                   candidates_only)
-                .candidates);
+        detect_line(ahead, frames[k]);  // remembered by the filter
         break;
       }
     }
@@ -263,37 +280,20 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
       // No laser-off frame just before (the first frame): the line is not
       // looked for in the raw image, where the scene could pass for it.
     } else if (!laser_off) {
-      const auto layout = laser::LayoutFor(camera.bayer, image.channels());
-      // Servo scans: candidates standing where candidates stood while the
-      // sheet turned are a stripe or reflection, not the line (§5.5).
-      laser::DetectorOptions frame_detector = detector;
-      const bool sweeping = sweep_filter && record.laser_angle_rad;
-      if (sweeping) {
-        sweep_filter->Begin(record.index, *record.laser_angle_rad);
-        frame_detector.exclude_candidate = sweep_filter->Predicate();
-        // Where the line runs along a stripe, nearly all would go: then only
-        // what stands exactly where the stripe stood is left out.
-        frame_detector.exclude_candidate_on_restore = sweep_filter->Predicate(/*strict=*/true);
-        frame_detector.keep_candidates = true;
-      }
       if (difference) {
         cv::Mat lit_only;
         cv::subtract(image, dark_image, lit_only);  // saturates at 0
-        detection = laser::DetectLaserLine(lit_only, layout, frame_detector);
+        detection = detect_line(lit_only, record);
         ++report.frames_on_difference;
       } else {
-        detection = laser::DetectLaserLine(image, layout, frame_detector);
+        detection = detect_line(image, record);
       }
-      if (sweeping) {
-        sweep_filter->End(detection.candidates);
-        detection.candidates = {};
-        report.static_detections_removed += detection.stats.excluded_candidates;
-        // Noise and texture peaks are ignored now and then on any scene; a
-        // stripe or reflection shows on many scan lines of a frame.
-        report.frames_with_static_detections +=
-            detection.stats.excluded_candidates >= 0.05 * report.scan_lines;
-        report.frames_sweep_filter_restored += detection.stats.exclusion_restored;
-      }
+      report.static_detections_removed += detection.stats.excluded_candidates;
+      // Noise and texture peaks are ignored now and then on any scene; a
+      // stripe or reflection shows on many scan lines of a frame.
+      report.frames_with_static_detections +=
+          detection.stats.excluded_candidates >= 0.05 * report.scan_lines;
+      report.frames_sweep_filter_restored += detection.stats.exclusion_restored;
     } else {
       ++report.frames_laser_off;
       dark_image = image;

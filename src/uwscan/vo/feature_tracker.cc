@@ -32,7 +32,6 @@ FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(
 void FeatureTracker::Reset() {
   anchor_pyramid_.reset();
   anchor_mask_.release();
-  previous_mask_.release();
   tracks_.clear();
   dormant_.clear();
   previous_pyramid_.reset();
@@ -45,9 +44,10 @@ void FeatureTracker::RemoveTracks(const std::vector<uint64_t>& ids) {
   tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
                                [&](const FeatureTrack& t) { return remove.count(t.id) > 0; }),
                 tracks_.end());
-  dormant_.erase(std::remove_if(dormant_.begin(), dormant_.end(),
-                                [&](const DormantTrack& d) { return remove.count(d.track.id) > 0; }),
-                 dormant_.end());
+  dormant_.erase(
+      std::remove_if(dormant_.begin(), dormant_.end(),
+                     [&](const DormantTrack& d) { return remove.count(d.track.id) > 0; }),
+      dormant_.end());
 }
 
 namespace {
@@ -110,8 +110,8 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
     std::vector<float> error;
     const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                                     options_.klt_max_iterations, 0.01);
-    cv::calcOpticalFlowPyrLK(*previous_pyramid_, *pyramid, previous, current, status, error,
-                             window, options_.klt_pyramid_levels, criteria);
+    cv::calcOpticalFlowPyrLK(*previous_pyramid_, *pyramid, previous, current, status, error, window,
+                             options_.klt_pyramid_levels, criteria);
     // The backward pass starts where a consistent track must end (the
     // previous position), so full resolution suffices: a track that does
     // not come back to within the check from there is rejected either way.
@@ -161,7 +161,6 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
   }
   previous_pyramid_ = pyramid;
   previous_gray_ = gray;
-  previous_mask_ = mask.clone();
   stats.tracked = int(tracks_.size());
   return stats;
 }
@@ -201,14 +200,13 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
   }
   const cv::Size size = pyramid.front().size();
   const double b = options_.border_px;
-  dormant_.erase(std::remove_if(dormant_.begin(), dormant_.end(),
-                                [&](const DormantTrack& d) {
-                                  const cv::Point2f p(float(d.track.pixel.x()),
-                                                      float(d.track.pixel.y()));
-                                  return d.frames > options_.max_dormant_frames ||
-                                         !Inside(p, size, b);
-                                }),
-                 dormant_.end());
+  dormant_.erase(
+      std::remove_if(dormant_.begin(), dormant_.end(),
+                     [&](const DormantTrack& d) {
+                       const cv::Point2f p(float(d.track.pixel.x()), float(d.track.pixel.y()));
+                       return d.frames > options_.max_dormant_frames || !Inside(p, size, b);
+                     }),
+      dormant_.end());
 
   // Look again for those clear of the mask, from their anchor images.
   // Only once the KLT window is clear of the mask: a bright line in the
@@ -253,14 +251,16 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
       }
       // Appearance as in the anchor (KLT converges somewhere on a weak
       // patch; the correlation says whether it is the same corner).
-      if (PatchCorrelation((*anchor)[0], from[n], pyramid[0], p) < options_.reacquire_min_correlation) {
+      if (PatchCorrelation((*anchor)[0], from[n], pyramid[0], p) <
+          options_.reacquire_min_correlation) {
         continue;
       }
       DormantTrack& d = dormant_[candidates[begin + n]];
       FeatureTrack t = d.track;
       t.pixel = Eigen::Vector2d(p.x, p.y);
       ++t.age;
-      t.anchored = anchor == anchor_pyramid_;  // refined from the anchor only if it is the current one
+      t.anchored =
+          anchor == anchor_pyramid_;  // refined from the anchor only if it is the current one
       // The corner may have been detected again meanwhile as a new track:
       // the older track (with the map point) replaces it.
       const double duplicate = 0.5 * options_.min_distance_px;
@@ -289,9 +289,9 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
   dormant_.resize(w);
 }
 
-void FeatureTracker::SetAnchor() {
+void FeatureTracker::SetAnchor(const cv::Mat& mask) {
   anchor_pyramid_ = previous_pyramid_;
-  anchor_mask_ = previous_mask_;
+  anchor_mask_ = mask.clone();
   for (auto& t : tracks_) {
     t.anchored = true;
     t.anchor_pixel = t.pixel;
@@ -315,8 +315,8 @@ void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const
   // The frame-to-frame position starts within a pixel or so of the answer
   // (a larger correction is refused below): full resolution only, a quarter
   // of the work of the pyramid.
-  cv::calcOpticalFlowPyrLK(*anchor_pyramid_, pyramid, from, to, status, error, window, 0,
-                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  cv::calcOpticalFlowPyrLK(*anchor_pyramid_, pyramid, from, to, status, error, window, 0, criteria,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
   for (size_t k = 0; k < index.size(); ++k) {
     cv::Point2f& p = (*current)[index[k]];
     if (status[k] && std::isfinite(to[k].x) && std::isfinite(to[k].y) &&
@@ -372,9 +372,9 @@ int FeatureTracker::Detect(const cv::Mat& mask, TrackingStats* stats) {
       // around the region, so the values inside are those of the whole
       // image's response, at a fraction of the cost.
       const int margin = 4;
-      const cv::Rect region = cv::Rect(x0 - margin, y0 - margin, x1 - x0 + 2 * margin,
-                                       y1 - y0 + 2 * margin) &
-                              cv::Rect(0, 0, gray.cols, gray.rows);
+      const cv::Rect region =
+          cv::Rect(x0 - margin, y0 - margin, x1 - x0 + 2 * margin, y1 - y0 + 2 * margin) &
+          cv::Rect(0, 0, gray.cols, gray.rows);
       cv::Mat response, dilated;
       cv::cornerHarris(gray(region), response, 3, 3, options_.harris_k);
       cv::dilate(response, dilated, cv::Mat());

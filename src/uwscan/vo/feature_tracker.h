@@ -81,8 +81,9 @@ class FeatureTracker {
   int Detect(const cv::Mat& mask, TrackingStats* stats = nullptr);
   // Forgets all features and the previous image.
   void Reset();
-  // Makes the current image the anchor of all current tracks.
-  void SetAnchor();
+  // Makes the current image the anchor of all current tracks; `mask` is
+  // the mask Track received with it (empty: none).
+  void SetAnchor(const cv::Mat& mask = cv::Mat());
   void RemoveTracks(const std::vector<uint64_t>& ids);
 
   const std::vector<FeatureTrack>& tracks() const { return tracks_; }
@@ -104,7 +105,7 @@ class FeatureTracker {
   std::vector<DormantTrack> dormant_;
   Pyramid previous_pyramid_;
   Pyramid anchor_pyramid_;
-  cv::Mat previous_mask_, anchor_mask_;  // masks of those images
+  cv::Mat anchor_mask_;  // the anchor image's mask
   // Refines the frame-to-frame positions `current` (one per track) by KLT
   // from the anchor image, for the tracks seen there.
   void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,

@@ -93,7 +93,7 @@ TEST_F(FeatureTrackerTest, ReacquiresTracksBehindTheLaserLine) {
     FeatureTracker tracker(options);
     tracker.Track(renderer_.Render(pose(0), render), band);
     tracker.Detect(band);
-    tracker.SetAnchor();
+    tracker.SetAnchor(band);
     const std::vector<FeatureTrack> first = tracker.tracks();
     int reacquired = 0;
     for (int frame = 1; frame <= 25; ++frame) {

@@ -315,7 +315,7 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   reference_.reset();
   tracker_.RemoveTracks(outliers);
   tracker_.Detect(mask, &result->tracking);
-  tracker_.SetAnchor();
+  tracker_.SetAnchor(mask);
   for (const auto& t : tracker_.tracks()) map_.keyframes[1].observations[t.id] = t.pixel;
 }
 
@@ -438,7 +438,7 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
   for (const auto& t : tracker_.tracks()) kf.observations[t.id] = t.pixel;
   kf.range_constraints = ranges;
   map_.keyframes.push_back(std::move(kf));
-  tracker_.SetAnchor();
+  tracker_.SetAnchor(mask);
 
   // Triangulate tracks seen in earlier keyframes of the window but not yet
   // in the map, from all their keyframe rays (widest baseline included).

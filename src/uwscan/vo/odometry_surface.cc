@@ -78,7 +78,7 @@ FrameResult Odometry::InitializeFromSurface(const cv::Mat& image, const cv::Mat&
   tracker_.Reset();
   result.tracking = tracker_.Track(gray, mask);
   tracker_.Detect(mask, &result.tracking);
-  tracker_.SetAnchor();
+  tracker_.SetAnchor(mask);
   SparseMap previous = std::move(map_);
   map_.Clear();
   Keyframe keyframe;
