@@ -15,6 +15,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto no_compensation = std::make_shared<bool>(false);
   auto keep_static = std::make_shared<bool>(false);
   auto no_difference = std::make_shared<bool>(false);
+  auto keep_albedo_edges = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "reconstruct",
       "Motion-compensated point cloud from a dataset: cloud.ply, cloud_uncompensated.ply, "
@@ -31,6 +32,9 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--keep-static-detections", *keep_static,
                 "servo scans: keep line detections that stay put while the laser sweeps "
                 "(removed by default: a painted stripe or reflection, thesis §5.5)");
+  cmd->add_flag("--keep-albedo-edges", *keep_albedo_edges,
+                "keep line points on an albedo edge (dropped by default: the edge pulls the "
+                "sub-pixel fit towards its bright side; judged in the flood-lit colour channel)");
   cmd->add_option("--max-dormant-frames", job->self_referenced.odometry.tracker.max_dormant_frames,
                   "frames a feature track cut by the laser line may stay lost and still be taken "
                   "up again under its id (thesis §5.5; 0 = off)")
@@ -47,6 +51,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     if (!poses->empty()) job->poses_file = *poses;
     job->motion_compensation = !*no_compensation;
     job->sweep_filter = !*keep_static;
+    job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "uwscan/laser/scanline.h"
 #include "uwscan/laser/segments.h"
 #include "uwscan/laser/subpixel.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/statistics.h"
 
 namespace uwscan::laser {
 
@@ -51,6 +53,19 @@ ColourLayout LayoutFor(const std::string& bayer, int image_channels) {
   return ColourLayout::kMono;
 }
 
+int ChannelFromName(const std::string& name) {
+  if (name == "red") return kRed;
+  if (name == "green") return kGreen;
+  if (name == "blue") return kBlue;
+  return -1;
+}
+
+int AlbedoChannelFor(int laser_channel) {
+  if (laser_channel == kGreen) return kRed;
+  if (laser_channel == kRed || laser_channel == kBlue) return kGreen;
+  return -1;
+}
+
 void DetectorOptions::Check() const {
   UWS_CHECK(line_sigma_px > 0.2 && line_sigma_px < 50.0,
             "laser detection: line sigma must be 0.2-50 px");
@@ -64,6 +79,10 @@ void DetectorOptions::Check() const {
   UWS_CHECK(cog_threshold > 0.0 && cog_threshold < 1.0,
             "laser detection: cog threshold must be in (0, 1)");
   UWS_CHECK(laser_channel >= kRed && laser_channel <= kMono, "laser detection: invalid channel");
+  UWS_CHECK(albedo_channel >= -1 && albedo_channel <= kBlue,
+            "laser detection: invalid albedo channel");
+  UWS_CHECK(min_albedo_reference >= 0.0 && max_albedo_step > 1.0,
+            "laser detection: albedo step must be > 1");
 }
 
 namespace {
@@ -116,11 +135,24 @@ struct BandPass {
   }
 };
 
+constexpr float kSaturation = 0.999f;
+
+// The samples across the line that the sub-pixel fit reads, and the
+// albedo channel's at the same positions (DetectorOptions::albedo_channel).
+struct PeakProfile {
+  std::vector<float> laser;
+  std::vector<float> reference;  // empty: no albedo correction here
+  int lo = 0;                    // full-resolution position of sample 0 is origin + step * lo
+  int origin = 0, step = 1;
+  int best = 0;        // index of the raw maximum
+  int half_width = 1;  // of the Gaussian fit, samples
+};
+
 struct Scratch {
   std::vector<int32_t> band;
   std::vector<int> candidates;
   std::vector<uint8_t> flags;
-  std::vector<float> raw;
+  std::vector<PeakProfile> profiles;  // of the selected peaks
   BandPass bandpass;
 };
 
@@ -270,11 +302,12 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
   }
 }
 
-// Step 7, run only on the selected peaks: Gaussian fit on the raw samples
-// around the raw maximum, above the darkest sample within the band-pass
-// support.
-double RefinePeak(const cv::Mat& image, ColourLayout layout, const Peak& peak,
-                  const DetectorOptions& o, std::vector<float>* raw) {
+// Step 7's samples: around the raw maximum within the band-pass support.
+// A thin line is undersampled by one colour of a mosaic, so a green line is
+// read on the green channel at full resolution (the rows above and below
+// fill the gaps).
+void ReadPeakProfile(const cv::Mat& image, ColourLayout layout, const Peak& peak,
+                     const DetectorOptions& o, PeakProfile* p) {
   const RowSamples samples =
       RowChannel(image, layout, peak.line, ScanChannel{peak.channel, peak.offset, peak.stride});
   const int n = samples.count;
@@ -282,37 +315,106 @@ double RefinePeak(const cv::Mat& image, ColourLayout layout, const Peak& peak,
   int k = i;
   if (i > 0 && samples.Value(i - 1) > samples.Value(k)) k = i - 1;
   if (i + 1 < n && samples.Value(i + 1) > samples.Value(k)) k = i + 1;
-  if (peak.stride == 2 && peak.channel == kGreen) {
-    // A thin line is undersampled by one colour of the mosaic: fit on the
-    // green channel at full resolution instead (the rows above and below
-    // fill the gaps).
-    const double sigma = o.line_sigma_px;
+  const bool full_resolution_green = peak.stride == 2 && peak.channel == kGreen;
+  const double sigma = full_resolution_green ? o.line_sigma_px : o.line_sigma_px / peak.stride;
+  p->half_width = std::clamp(static_cast<int>(std::lround(sigma)), 1, 3);
+  p->reference.clear();
+  const bool albedo = o.albedo_channel >= 0 && o.albedo_channel != peak.channel &&
+                      (full_resolution_green || layout == ColourLayout::kBgr);
+  if (full_resolution_green) {
     const int outer = std::max(3, static_cast<int>(std::lround(4.0 * sigma)));
     const int centre = peak.offset + 2 * k;
     const int lo = std::max(0, centre - outer), hi = std::min(image.cols - 1, centre + outer);
-    FullResolutionGreen(image, layout, peak.line, lo, hi - lo + 1, raw);
-    int best = centre - lo;
-    for (int j = std::max(0, best - 1); j <= std::min(hi - lo, best + 1); ++j) {
-      if ((*raw)[j] > (*raw)[best]) best = j;
+    FullResolutionGreen(image, layout, peak.line, lo, hi - lo + 1, &p->laser);
+    if (albedo) {
+      FullResolutionChannel(image, layout, peak.line, o.albedo_channel, lo, hi - lo + 1,
+                            &p->reference);
     }
-    const float background = *std::min_element(raw->begin(), raw->end());
-    const int half_width = std::clamp(static_cast<int>(std::lround(sigma)), 1, 3);
-    return lo + GaussianPeakPosition(raw->data(), hi - lo + 1, best, half_width, background);
+    p->lo = lo, p->origin = 0, p->step = 1;
+    p->best = centre - lo;
+    for (int j = std::max(0, centre - lo - 1); j <= std::min(hi - lo, centre - lo + 1); ++j) {
+      if (p->laser[j] > p->laser[p->best]) p->best = j;
+    }
+    return;
   }
-  const double sigma = o.line_sigma_px / peak.stride;
   const int outer = std::max(std::max(1, static_cast<int>(std::lround(sigma))) + 2,
                              static_cast<int>(std::lround(4.0 * sigma)));
   const int lo = std::max(0, k - outer), hi = std::min(n - 1, k + outer);
-  raw->resize(hi - lo + 1);
-  float background = samples.Raw(k);
-  for (int j = lo; j <= hi; ++j) {
-    (*raw)[j - lo] = samples.Raw(j);
-    background = std::min(background, (*raw)[j - lo]);
+  p->laser.resize(hi - lo + 1);
+  for (int j = lo; j <= hi; ++j) p->laser[j - lo] = samples.Raw(j);
+  if (albedo) FullResolutionChannel(image, layout, peak.line, o.albedo_channel, lo, hi - lo + 1,
+                                    &p->reference);
+  p->lo = lo, p->origin = peak.offset, p->step = peak.stride;
+  p->best = k - lo;
+}
+
+// How much of the line the albedo channel sees itself (colour filter
+// crosstalk, e.g. a 532 nm laser in the red pixels): the median ratio of the
+// line's height in the reference to its height in the laser channel, over
+// peaks on an even albedo (both flanks of the reference alike) and not
+// saturated. 0 with fewer than 8 such peaks.
+double EstimateCrosstalk(const std::vector<PeakProfile>& profiles, size_t count) {
+  std::vector<double> ratios;
+  for (size_t i = 0; i < count; ++i) {
+    const PeakProfile& p = profiles[i];
+    if (p.reference.empty()) continue;
+    const int n = static_cast<int>(p.laser.size());
+    const int inner = p.half_width + 2;
+    if (p.best - inner - 1 < 0 || p.best + inner + 1 >= n) continue;
+    double left = 0.0, right = 0.0, laser_flank = 0.0;
+    int left_count = 0, right_count = 0;
+    for (int j = 0; j < n; ++j) {
+      if (j < p.best - inner) left += p.reference[j], ++left_count, laser_flank += p.laser[j];
+      if (j > p.best + inner) right += p.reference[j], ++right_count, laser_flank += p.laser[j];
+    }
+    left /= left_count, right /= right_count;
+    laser_flank /= left_count + right_count;
+    const double height = p.laser[p.best] - laser_flank;
+    if (p.laser[p.best] >= kSaturation || height < 0.05) continue;
+    if (std::abs(left - right) > 0.15 * std::max(left, right)) continue;
+    ratios.push_back((p.reference[p.best] - 0.5 * (left + right)) / height);
   }
-  const int half_width = std::clamp(static_cast<int>(std::lround(sigma)), 1, 3);
-  const double position =
-      lo + GaussianPeakPosition(raw->data(), hi - lo + 1, k - lo, half_width, background);
-  return peak.offset + peak.stride * position;
+  if (ratios.size() < 8) return 0.0;
+  return std::max(0.0, Median(ratios));
+}
+
+// See DetectorOptions::albedo_channel: whether the albedo changes by more
+// than max_albedo_step within the fit's support around the peak, as the
+// reference shows it once the line's own light (`crosstalk`) is taken out.
+bool OnAlbedoEdge(const DetectorOptions& o, double crosstalk, const PeakProfile& p) {
+  if (p.reference.empty()) return false;
+  const int n = static_cast<int>(p.laser.size());
+  const int first = std::max(0, p.best - p.half_width - 1);
+  const int last = std::min(n - 1, p.best + p.half_width + 1);
+  // The flood must light the surface beside the line (not so in a
+  // difference image, or in the dark).
+  float flank = 0.0f;
+  for (const auto& [from, to] : {std::pair{0, first}, std::pair{last + 1, n}}) {
+    if (to <= from) continue;
+    float sum = 0.0f;
+    for (int j = from; j < to; ++j) sum += p.reference[j];
+    flank = std::max(flank, sum / (to - from));
+  }
+  if (!(flank >= o.min_albedo_reference)) return false;
+  float darkest = std::numeric_limits<float>::infinity(), brightest = 0.0f;
+  for (int j = first; j <= last; ++j) {
+    const float albedo =
+        std::max(0.0f, p.reference[j] - static_cast<float>(crosstalk) * p.laser[j]);
+    darkest = std::min(darkest, albedo);
+    brightest = std::max(brightest, albedo);
+  }
+  return brightest > o.max_albedo_step * std::max(darkest, 1.0f / 255.0f);
+}
+
+// Step 7, run only on the selected peaks: Gaussian fit on the raw samples
+// around the raw maximum, above the darkest sample within the band-pass
+// support. Full-resolution position across the line.
+double RefinePeak(const PeakProfile& p) {
+  const float background = *std::min_element(p.laser.begin(), p.laser.end());
+  const double position = p.lo + GaussianPeakPosition(p.laser.data(),
+                                                      static_cast<int>(p.laser.size()), p.best,
+                                                      p.half_width, background, kSaturation);
+  return p.origin + p.step * position;
 }
 
 // Baselines on one scan line: per-line argmax, or centre of gravity of the
@@ -415,9 +517,27 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
       detection.stats.exclusion_restored = true;
     }
     detection.stats.segments = static_cast<int>(segments.size());
-    for (const auto& [index, segment] : selected) {
-      peaks[index].position = RefinePeak(image, layout, peaks[index], o, &scratch.raw);
+    auto& profiles = scratch.profiles;
+    profiles.resize(std::max(profiles.size(), selected.size()));
+    for (size_t j = 0; j < selected.size(); ++j) {
+      ReadPeakProfile(image, layout, peaks[selected[j].first], o, &profiles[j]);
     }
+    detection.stats.albedo_crosstalk =
+        o.albedo_channel >= 0 ? EstimateCrosstalk(profiles, selected.size()) : 0.0;
+    size_t kept = 0;
+    for (size_t j = 0; j < selected.size(); ++j) {
+      Peak& peak = peaks[selected[j].first];
+      peak.position = RefinePeak(profiles[j]);
+      if (OnAlbedoEdge(o, detection.stats.albedo_crosstalk, profiles[j])) {
+        LaserPoint point = ToLaserPoint(peak, options.scan_rows);
+        point.segment = selected[j].second;
+        detection.albedo_edge_points.push_back(point);
+        continue;
+      }
+      selected[kept++] = selected[j];
+    }
+    selected.resize(kept);
+    detection.stats.albedo_edge_points = static_cast<int>(detection.albedo_edge_points.size());
     std::vector<bool> used(segments.size(), false);
     for (const auto& [peak, segment] : selected) used[segment] = true;
     detection.stats.selected_segments =
@@ -439,7 +559,7 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
   if (options.make_mask) {
     detection.mask = cv::Mat::zeros(image_in.size(), CV_8U);
     const int half = static_cast<int>(std::ceil(options.mask_sigmas * options.line_sigma_px));
-    for (const auto& point : detection.points) {
+    const auto mask_point = [&](const LaserPoint& point) {
       const double along = options.scan_rows ? point.u : point.v;
       const int line = static_cast<int>(options.scan_rows ? point.v : point.u);
       const int limit = options.scan_rows ? image_in.cols : image_in.rows;
@@ -451,7 +571,9 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
         else
           detection.mask.at<uint8_t>(i, line) = 255;
       }
-    }
+    };
+    for (const auto& point : detection.points) mask_point(point);
+    for (const auto& point : detection.albedo_edge_points) mask_point(point);
   }
   return detection;
 }

@@ -23,6 +23,12 @@ enum Channel : int { kRed = 0, kGreen = 1, kBlue = 2, kMono = 3 };
 const char* ChannelName(int channel);
 // The camera channel that sees a laser of this wavelength best.
 int ChannelForWavelength(double wavelength_nm);
+// "red", "green", "blue" -> the channel; anything else -> -1.
+int ChannelFromName(const std::string& name);
+// The channel that sees the scene's albedo beside a laser in `laser_channel`
+// (DetectorOptions::albedo_channel): red for a green laser (the thesis's red
+// LEDs), green for a red or blue one, -1 for mono.
+int AlbedoChannelFor(int laser_channel);
 
 // How the input image stores colour.
 enum class ColourLayout { kMono, kBgr, kBayerRggb, kBayerBggr, kBayerGrbg, kBayerGbrg };
@@ -50,6 +56,21 @@ struct DetectorOptions {
   // strength: the line is one light source, texture stripes are fainter.
   double min_relative_strength = 0.3;
   bool cross_channel_suppression = true;  // §5.5: drop peaks stronger in another channel
+  // Albedo edges (thesis method): the line's image is the laser's irradiance
+  // times the surface albedo, so where the line runs along an albedo edge (a
+  // checkerboard square's side) the fit is pulled towards the bright side by
+  // up to a pixel (several mm at 2 m). A channel lit by a flood (red LED
+  // beside a green laser) sees the same albedo: a detection is dropped where
+  // that channel, less the line's own crosstalk, changes by more than
+  // max_albedo_step within the fit's support. Dividing by the albedo instead
+  // was tried: at a 20:1 edge it amplifies the dark side's noise and the
+  // edge's 2-px sampling in a mosaic, and the fit fails. -1: off (also for a
+  // red or blue laser in a Bayer mosaic). Not judged where the reference is
+  // darker than min_albedo_reference beside the line (e.g. in a difference
+  // image).
+  int albedo_channel = -1;
+  double max_albedo_step = 3.0;
+  double min_albedo_reference = 0.03;  // reference beside the line, of full scale
   // Baselines: fraction of the scan line's maximum above which pixels count.
   double cog_threshold = 0.5;
   double min_peak_intensity = 0.08;  // of full scale, for the baselines
@@ -86,6 +107,8 @@ struct DetectionStats {
   int suppressed_cross_channel = 0;
   int excluded_candidates = 0;      // by exclude_candidate (or the restore test)
   bool exclusion_restored = false;  // nearly all would have gone: kept
+  double albedo_crosstalk = 0.0;    // the line's share seen in the albedo channel
+  int albedo_edge_points = 0;       // dropped on an albedo edge
 };
 
 struct Detection {
@@ -93,6 +116,9 @@ struct Detection {
   // With keep_candidates: every candidate peak before exclusion and
   // selection (coarse positions, strength), for laser::SweepFilter.
   std::vector<LaserPoint> candidates;
+  // Line points dropped on an albedo edge (DetectorOptions::albedo_channel):
+  // biased, so not in `points`, but masked.
+  std::vector<LaserPoint> albedo_edge_points;
   cv::Mat mask;                    // CV_8U, 255 where the line is; empty if !make_mask
   DetectionStats stats;
 };

@@ -92,6 +92,47 @@ TEST(LaserDetector, RawBayerGreenLaserUnderRedLed) {
   }
 }
 
+// A line running along an albedo edge (a checkerboard square's side) is
+// pulled towards the bright side by the edge. The red LED shows the edge:
+// those detections are dropped (but masked); an edge beyond the fit's
+// support leaves the line alone. The line's own light in the red pixels
+// (crosstalk) is measured on the frame, not mistaken for an edge.
+TEST(LaserDetector, DetectionsOnAnAlbedoEdgeAreDropped) {
+  for (const auto layout : {ColourLayout::kBayerRggb, ColourLayout::kBgr}) {
+    SyntheticLineOptions o;
+    o.layout = layout;
+    o.albedo_edge = true;
+    o.albedo_edge_offset_px = 0.7;
+    const SyntheticLine line = RenderSyntheticLine(o);
+    DetectorOptions options;
+    const Detection biased = DetectLaserLine(line.image, layout, options);
+    ASSERT_GT(biased.points.size(), 200u);
+    double mean_error = 0.0;
+    for (const auto& p : biased.points)
+      mean_error += p.u - (o.u0 + o.slope * (p.v - o.height / 2.0));
+    mean_error /= biased.points.size();
+    EXPECT_LT(mean_error, -0.3);  // towards the bright side
+
+    options.albedo_channel = kRed;
+    const Detection dropped = DetectLaserLine(line.image, layout, options);
+    EXPECT_GT(dropped.stats.albedo_edge_points, 0.95 * biased.points.size());
+    EXPECT_LT(dropped.points.size(), 0.05 * biased.points.size());
+    for (const auto& p : dropped.albedo_edge_points) {
+      EXPECT_EQ(dropped.mask.at<uint8_t>(static_cast<int>(p.v), static_cast<int>(std::lround(p.u))),
+                255);
+    }
+
+    o.albedo_edge_offset_px = 10.0;
+    const SyntheticLine far = RenderSyntheticLine(o);
+    const Detection kept = DetectLaserLine(far.image, layout, options);
+    EXPECT_EQ(kept.stats.albedo_edge_points, 0);
+    const Score score = Evaluate(kept, far);
+    EXPECT_GT(score.completeness, 0.95);
+    EXPECT_LT(score.rms, 0.15);
+    EXPECT_NEAR(kept.stats.albedo_crosstalk, o.laser_colour[kRed] / o.laser_colour[kGreen], 0.03);
+  }
+}
+
 // A painted stripe lit by the LED looks like a line but has the LED's
 // colour; cross-channel suppression (§5.5) keeps it out, and the real line
 // wins.

@@ -82,6 +82,53 @@ void FullResolutionGreen(const cv::Mat& image, ColourLayout layout, int row, int
   }
 }
 
+void FullResolutionChannel(const cv::Mat& image, ColourLayout layout, int row, int channel,
+                           int first, int count, std::vector<float>* out) {
+  out->resize(count);
+  const float scale = image.depth() == CV_8U ? 1.0f / 255.0f : 1.0f / 65535.0f;
+  const auto at = [&](int r, int c) -> float {
+    return image.depth() == CV_8U ? image.at<uint8_t>(r, c) : image.at<uint16_t>(r, c);
+  };
+  if (layout == ColourLayout::kBgr) {
+    for (int i = 0; i < count; ++i) {
+      const int col = first + i;
+      (*out)[i] = (image.depth() == CV_8U ? image.at<cv::Vec3b>(row, col)[2 - channel]
+                                          : image.at<cv::Vec3w>(row, col)[2 - channel]) *
+                  scale;
+    }
+    return;
+  }
+  UWS_CHECK(layout != ColourLayout::kMono && (channel == kRed || channel == kBlue),
+            "FullResolutionChannel: red or blue of a Bayer mosaic");
+  int colour_row = 0, colour_col = 0;  // parity of the pixels of this colour
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < 2; ++c) {
+      if (BayerColourAt(layout, r, c) == channel) colour_row = r, colour_col = c;
+    }
+  }
+  int rows[2], row_count = 0;
+  if (row % 2 == colour_row) {
+    rows[row_count++] = row;
+  } else {
+    if (row > 0) rows[row_count++] = row - 1;
+    if (row + 1 < image.rows) rows[row_count++] = row + 1;
+  }
+  for (int i = 0; i < count; ++i) {
+    const int col = first + i;
+    float sum = 0.0f;
+    int n = 0;
+    for (int k = 0; k < row_count; ++k) {
+      if (col % 2 == colour_col) {
+        sum += at(rows[k], col), ++n;
+        continue;
+      }
+      if (col > 0) sum += at(rows[k], col - 1), ++n;
+      if (col + 1 < image.cols) sum += at(rows[k], col + 1), ++n;
+    }
+    (*out)[i] = n ? sum / n * scale : 0.0f;
+  }
+}
+
 std::vector<ScanChannel> ChannelsOnRow(ColourLayout layout, int row) {
   if (layout == ColourLayout::kMono) return {{kMono, 0, 1}};
   if (layout == ColourLayout::kBgr) return {{kRed, 0, 1}, {kGreen, 0, 1}, {kBlue, 0, 1}};

@@ -44,6 +44,14 @@ int BayerColourAt(ColourLayout layout, int row, int col);
 void FullResolutionGreen(const cv::Mat& image, ColourLayout layout, int row, int first, int count,
                          std::vector<float>* out);
 
+// Samples of colour `channel` (kRed or kBlue of a raw Bayer mosaic, or any
+// channel of a BGR image) at full resolution over columns [first, first +
+// count) of `row`: for a mosaic the mean of that colour's nearest pixels on
+// this row or the rows above and below, in this column or the two beside it.
+// Normalised to [0, 1].
+void FullResolutionChannel(const cv::Mat& image, ColourLayout layout, int row, int channel,
+                           int first, int count, std::vector<float>* out);
+
 // Channels present on row `row` (at most three).
 std::vector<ScanChannel> ChannelsOnRow(ColourLayout layout, int row);
 

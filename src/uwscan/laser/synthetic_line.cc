@@ -55,8 +55,13 @@ SyntheticLine RenderSyntheticLine(const SyntheticLineOptions& o) {
     if (lit && centre >= 0 && centre <= o.width - 1) result.truth.emplace_back(centre, v);
     const double stripe_centre = o.stripe_u0 + o.stripe_slope * dv;
     for (int u = 0; u < o.width; ++u) {
-      const double laser = lit ? o.amplitude * PixelIntegratedGaussian(u, centre, o.sigma_px) : 0.0;
-      double scene = o.background + o.texture * texture.at<double>(v, u);
+      // Albedo over the pixel: the share of it before the edge reflects fully.
+      const double edge = centre + o.albedo_edge_offset_px;
+      const double bright_share = o.albedo_edge ? std::clamp(edge - (u - 0.5), 0.0, 1.0) : 1.0;
+      const double albedo = bright_share + (1.0 - bright_share) * o.albedo_dark;
+      const double laser =
+          lit ? albedo * o.amplitude * PixelIntegratedGaussian(u, centre, o.sigma_px) : 0.0;
+      double scene = albedo * (o.background + o.texture * texture.at<double>(v, u));
       if (o.stripe)
         scene += o.stripe_amplitude * PixelIntegratedGaussian(u, stripe_centre, o.stripe_sigma_px);
       const auto value = [&](int channel) {

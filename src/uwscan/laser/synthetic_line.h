@@ -32,6 +32,12 @@ struct SyntheticLineOptions {
   double stripe_slope = 0.05;
   double stripe_sigma_px = 1.8;
   double stripe_amplitude = 0.5;
+  // Optional albedo edge along the line, this far from its centre (px): the
+  // surface beyond it reflects albedo_dark of the light (laser and LED)
+  // reflected before it.
+  bool albedo_edge = false;
+  double albedo_edge_offset_px = 0.7;
+  double albedo_dark = 0.05;
   // Colours (R, G, B) of the laser and of the LED-lit scene, as seen by the
   // camera's colour filters (crosstalk included).
   cv::Vec3d laser_colour{0.08, 1.0, 0.15};

@@ -21,6 +21,9 @@ void LaserDetectJob::Check() const {
             "--scan must be rows, cols or auto");
   UWS_CHECK(channel == "red" || channel == "green" || channel == "blue" || channel == "auto",
             "--channel must be red, green, blue or auto");
+  UWS_CHECK(albedo == "red" || albedo == "green" || albedo == "blue" || albedo == "none" ||
+                albedo == "auto",
+            "--albedo must be red, green, blue, none or auto");
   UWS_CHECK(dataset_dir.empty() != images_dir.empty(), "give either --dataset or --images");
   UWS_CHECK(!profiles_csv || rig_path || !dataset_dir.empty(),
             "--profiles needs a rig (--rig or --dataset)");
@@ -151,6 +154,8 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     options.laser_channel = laser::kBlue;
   else if (laser)
     options.laser_channel = laser::ChannelForWavelength(laser->wavelength_nm);
+  options.albedo_channel = job.albedo == "auto" ? laser::AlbedoChannelFor(options.laser_channel)
+                                                : laser::ChannelFromName(job.albedo);
   options.make_mask = false;  // not written by this command
   if (job.overlay_dir) fs::create_directories(*job.overlay_dir);
 

@@ -25,6 +25,7 @@ struct LaserDetectJob {
   std::optional<std::filesystem::path> overlay_dir;
   std::string scan = "auto";     // rows | cols | auto (from the rig)
   std::string channel = "auto";  // red | green | blue | auto (laser wavelength)
+  std::string albedo = "auto";   // red | green | blue | none | auto (laser::AlbedoChannelFor)
   laser::DetectorOptions detector;
   bool quiet = false;
   void Check() const;

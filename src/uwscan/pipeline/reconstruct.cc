@@ -113,6 +113,7 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"points_uncompensated", points_uncompensated},
           {"triangulation_failures", triangulation_failures},
           {"static_candidates_ignored", static_detections_removed},
+          {"points_dropped_on_albedo_edges", albedo_edge_points},
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},
           {"pose", pose_details},
@@ -144,6 +145,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   laser::DetectorOptions detector = job.detector;
   detector.scan_rows = LaserLineIsVertical(camera, camera_from_laser);
   detector.laser_channel = laser::ChannelForWavelength(laser.wavelength_nm);
+  detector.albedo_channel =
+      job.drop_albedo_edges ? laser::AlbedoChannelFor(detector.laser_channel) : -1;
   detector.make_mask = true;
 
   if (!provider && job.poses_file) {
@@ -289,6 +292,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
         detection = detect_line(image, record);
       }
       report.static_detections_removed += detection.stats.excluded_candidates;
+      report.albedo_edge_points += detection.stats.albedo_edge_points;
       // Noise and texture peaks are ignored now and then on any scene; a
       // stripe or reflection shows on many scan lines of a frame.
       report.frames_with_static_detections +=

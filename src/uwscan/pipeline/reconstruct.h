@@ -28,6 +28,9 @@ struct ReconstructJob {
   // Servo datasets: ignore line candidates that stay put while the sheet
   // sweeps (laser/sweep_filter.h, thesis §5.5).
   bool sweep_filter = true;
+  // Drop line detections on an albedo edge, judged in the flood-lit channel
+  // (laser::DetectorOptions::albedo_channel; red for a green laser).
+  bool drop_albedo_edges = true;
   // Interleaved datasets (frames.csv laser_on): detect the line in the
   // difference of each laser-on frame and the laser-off frame before it.
   bool detect_on_difference = true;
@@ -46,6 +49,7 @@ struct ReconstructReport {
   long points_uncompensated = 0;
   long triangulation_failures = 0;
   long static_detections_removed = 0;  // line candidates ignored by the sweep filter
+  long albedo_edge_points = 0;         // line points dropped on an albedo edge
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
   int frames_sweep_filter_restored = 0;  // nearly the whole line would have gone: kept
   double seconds = 0.0;
