@@ -62,6 +62,7 @@ std::vector<LaserAccuracyRow> RunLaserAccuracyBenchmark(
       laser::DetectorOptions detector;
       detector.scan_rows = LaserLineIsVertical(camera, laser.camera_from_laser);
       detector.laser_channel = laser::ChannelForWavelength(laser.wavelength_nm);
+      detector.albedo_channel = laser::AlbedoChannelFor(detector.laser_channel);  // as reconstruct
       const auto layout = laser::LayoutFor(camera.bayer, camera.bayer == "none" ? 3 : 1);
       std::vector<LaserAccuracy> totals(3);
       std::vector<double> profile_sum(3, 0.0);
