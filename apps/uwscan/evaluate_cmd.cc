@@ -17,8 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 
 void PrintCloudEvaluation(const ReconstructionEvaluation& evaluation) {
-  std::printf("%-16s %-12s %8s %12s %22s %14s %12s\n", "cloud", "surface", "points",
-              "fit std mm", "robust fit mm (drop)", "point err mm", "dist err %");
+  std::printf("%-16s %-12s %8s %12s %22s %14s %12s\n", "cloud", "surface", "points", "fit std mm",
+              "robust fit mm (drop)", "point err mm", "dist err %");
   for (const auto& [label, cloud] : {std::pair{"compensated", &evaluation.compensated},
                                      std::pair{"uncompensated", &evaluation.uncompensated}}) {
     std::printf("%-16s %-12s %8ld %12s %22s %14.3f %12s\n", label, "(all)", cloud->matched, "", "",
@@ -30,8 +30,7 @@ void PrintCloudEvaluation(const ReconstructionEvaluation& evaluation) {
         std::snprintf(robust, sizeof(robust), "%.3f (%ld)", s.robust_fit_rms_m * 1e3,
                       s.robust_outliers);
       std::printf("%-16s %-12s %8ld %12.3f %22s %14.3f %12.3f\n", label, s.name.c_str(), s.points,
-                  s.fit_rms_m * 1e3, robust, s.point_error_rms_m * 1e3,
-                  s.distance_error_mean_pct);
+                  s.fit_rms_m * 1e3, robust, s.point_error_rms_m * 1e3, s.distance_error_mean_pct);
     }
   }
 }

@@ -35,9 +35,10 @@ void RegisterLaserCommands(CLI::App& app) {
                      "profiles.csv: triangulated points frame,x,y,z (camera frame, m)");
   detect->add_option("--scan", job->scan, "rows | cols | auto")->capture_default_str();
   detect->add_option("--channel", job->channel, "red | green | blue | auto")->capture_default_str();
-  detect->add_option("--albedo", job->albedo,
-                     "channel whose albedo corrects the sub-pixel fit: red | green | blue | none "
-                     "| auto (red for a green laser)")
+  detect
+      ->add_option("--albedo", job->albedo,
+                   "channel whose albedo corrects the sub-pixel fit: red | green | blue | none "
+                   "| auto (red for a green laser)")
       ->capture_default_str();
   detect->add_option("--sigma", job->detector.line_sigma_px, "expected line sigma (px)")
       ->capture_default_str();

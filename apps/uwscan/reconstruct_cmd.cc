@@ -39,6 +39,11 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "frames a feature track cut by the laser line may stay lost and still be taken "
                   "up again under its id (thesis §5.5; 0 = off)")
       ->capture_default_str();
+  cmd->add_option("--init-refinements", job->self_referenced.init_refinements,
+                  "times the frames held at the start are tracked and their laser profiles "
+                  "placed again with those poses before the scan goes on (0 = once, with the "
+                  "first frame's pose)")
+      ->capture_default_str();
   cmd->add_flag("--no-difference-image", *no_difference,
                 "interleaved scans: detect the line in the laser-on frame itself, not in its "
                 "difference to the laser-off frame before it");

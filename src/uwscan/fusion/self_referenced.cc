@@ -13,7 +13,7 @@ void SelfReferencedOptions::Check() const {
   odometry.Check();
   surface.Check();
   UWS_CHECK(mask_dilation_px >= 0 && max_init_frames >= 2 && init_attempt_every >= 1 &&
-                max_tracking_width >= 0,
+                max_tracking_width >= 0 && init_refinements >= 0,
             "self-referenced odometry: invalid options");
 }
 
@@ -141,8 +141,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   }
   const cv::Size tracked(tracking_camera_.width, tracking_camera_.height);
   if (halvings > 0) cv::resize(passive, passive, tracked, 0, 0, cv::INTER_AREA);
-  held.input.image = NormalizeIllumination(
-      passive, options_.illumination_sigma_fraction * tracking_camera_.width);
+  held.input.image =
+      NormalizeIllumination(passive, options_.illumination_sigma_fraction * tracking_camera_.width);
   held.input.detection = nullptr;
   held.input.profile = nullptr;
   if (frame.detection && !frame.detection->mask.empty()) {
@@ -168,6 +168,15 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   auto updates = TryInitialize();
   if (!running_ && static_cast<int>(held_.size()) >= options_.max_init_frames) {
     held_.pop_front();  // never got a pose: the laser did not measure enough
+    // The new first held frame is at the origin now: tracked poses follow.
+    if (held_.front().pose_guess) {
+      const Rigid3d origin = last_pose_.value_or(Rigid3d());
+      const Rigid3d shift = origin * held_.front().pose_guess->Inverse();
+      for (Held& h : held_) {
+        if (h.pose_guess) h.pose_guess = shift * *h.pose_guess;
+      }
+    }
+    held_.front().pose_guess.reset();
     init_surface_.reset();
     ++dropped_;
   }
@@ -175,10 +184,9 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
-  // The held frames' profiles, placed with the first held frame's pose: the
-  // platform moves millimetres while they are taken (a hover; a moving
-  // platform initialises from fewer frames). After a loss the map restarts
-  // at the last known pose.
+  // The held frames' profiles, placed with the first held frame's pose (or
+  // where an earlier attempt tracked them): the platform moves while they
+  // are taken. After a loss the map restarts at the last known pose.
   const Rigid3d origin = last_pose_.value_or(Rigid3d());
   // The surface of the held frames grows with them (one AddProfile per
   // frame, not all held frames again at every attempt); it is built anew
@@ -187,8 +195,10 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     init_surface_ = std::make_unique<SurfaceModel>(camera_, origin, options_.surface);
     init_surface_frames_ = 0;
   }
+  // Frames tracked in an earlier attempt are placed where that put them,
+  // later ones where the last of those was.
   for (size_t i = init_surface_frames_; i < held_.size(); ++i) {
-    init_surface_->AddProfile(origin, held_[i].profile);
+    init_surface_->AddProfile(PoseGuess(i, origin), held_[i].profile);
   }
   init_surface_frames_ = held_.size();
   // Features only along the swept band would leave the pose's rotation
@@ -196,24 +206,45 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // scene's plane, which gives every feature a depth.
   if (options_.surface.extrapolate_plane && !init_surface_->HasDominantPlane()) return {};
   surface_ = std::move(init_surface_);
-  vo::OdometryOptions odometry_options = options_.odometry;
-  SurfaceModel* live = surface_.get();
-  odometry_options.surface = [live](const Eigen::Vector3d& o,
-                                    const Eigen::Vector3d& d) -> std::optional<vo::SurfaceHit> {
-    const auto hit = live->Intersect(o, d);
-    if (!hit) return std::nullopt;
-    return vo::SurfaceHit{hit->point, hit->sigma_m, hit->extrapolated};
-  };
-  odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, odometry_options);
-  const Held& first = held_.front();
-  const vo::FrameResult start = odometry_->InitializeFromSurface(first.input.image, first.mask,
-                                                                 first.input.timestamp_s, origin);
-  if (start.status != vo::FrameStatus::kTracked) {
-    odometry_.reset();
+  if (!StartOdometry(origin)) {
     init_surface_ = std::move(surface_);  // the held frames' surface, for the next attempt
     return {};
   }
+  // The held frames' profiles were placed with the first frame's pose while
+  // the platform moved (centimetres over a slow sweep): their surface is
+  // bent and tilted, and so are the depths of the features it gives, and
+  // the motion can make the swept band look wider than it is. Track the held
+  // frames on it, place their profiles with those poses, and start again
+  // from that surface; if it is too narrow for the scene's plane after all,
+  // wait for more frames.
+  for (int pass = 0; pass < options_.init_refinements && held_.size() > 2; ++pass) {
+    size_t tracked = 1;
+    for (; tracked < held_.size(); ++tracked) {
+      Held& h = held_[tracked];
+      const vo::FrameResult result =
+          odometry_->ProcessFrame(h.input.image, h.mask, h.input.timestamp_s);
+      if (!result.world_from_camera) break;
+      h.pose_guess = *result.world_from_camera;
+      surface_->AddProfile(*h.pose_guess, h.profile);
+    }
+    auto refined = std::make_unique<SurfaceModel>(camera_, origin, options_.surface);
+    for (size_t i = 0; i < held_.size(); ++i)
+      refined->AddProfile(PoseGuess(i, origin), held_[i].profile);
+    if (options_.surface.extrapolate_plane && !refined->HasDominantPlane()) {
+      odometry_.reset();
+      surface_.reset();
+      init_surface_.reset();  // rebuilt from the held frames at the next attempt
+      return {};
+    }
+    surface_ = std::move(refined);
+    if (!StartOdometry(origin)) {
+      surface_.reset();
+      init_surface_.reset();
+      return {};
+    }
+  }
   running_ = true;
+  const Held& first = held_.front();
   last_time_s_ = first.input.timestamp_s;
   if (init_frame_ < 0) init_frame_ = first.input.index;
   if (last_pose_) ++reinitialisations_;
@@ -233,6 +264,31 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     Emit(Track(h), h.input.timestamp_s, &updates);
   }
   return updates;
+}
+
+Rigid3d SelfReferencedPoseProvider::PoseGuess(size_t i, const Rigid3d& origin) const {
+  for (size_t j = i + 1; j-- > 1;) {
+    if (held_[j].pose_guess) return *held_[j].pose_guess;
+  }
+  return origin;
+}
+
+bool SelfReferencedPoseProvider::StartOdometry(const Rigid3d& origin) {
+  vo::OdometryOptions odometry_options = options_.odometry;
+  SurfaceModel* live = surface_.get();
+  odometry_options.surface = [live](const Eigen::Vector3d& o,
+                                    const Eigen::Vector3d& d) -> std::optional<vo::SurfaceHit> {
+    const auto hit = live->Intersect(o, d);
+    if (!hit) return std::nullopt;
+    return vo::SurfaceHit{hit->point, hit->sigma_m, hit->extrapolated};
+  };
+  odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, odometry_options);
+  const Held& first = held_.front();
+  const vo::FrameResult start = odometry_->InitializeFromSurface(first.input.image, first.mask,
+                                                                 first.input.timestamp_s, origin);
+  if (start.status == vo::FrameStatus::kTracked) return true;
+  odometry_.reset();
+  return false;
 }
 
 void SelfReferencedPoseProvider::Restart() {

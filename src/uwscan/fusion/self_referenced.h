@@ -29,7 +29,7 @@ struct SelfReferencedOptions {
   // still detected and triangulated at full resolution. Features at 640 px
   // are as good for a hover at 2 m and cost a quarter of the time.
   int max_tracking_width = 640;
-  int mask_dilation_px = 4;                   // around the detected line (halo, blur), full-resolution px
+  int mask_dilation_px = 4;  // around the detected line (halo, blur), full-resolution px
   double illumination_sigma_fraction = 0.01;  // high-pass scale, of the image width
   // A pose that moves faster than a vehicle can is not believed: the frame
   // gets no pose and the map restarts from the last believed one.
@@ -38,8 +38,14 @@ struct SelfReferencedOptions {
   // Poses are smoothed over +-N frames (quadratic fit, pose_smoother.h) and
   // come out N frames late; 0 switches smoothing off.
   int smoothing_half_window = 10;
-  int max_init_frames = 90;    // frames held back while the laser sweeps enough surface
+  // Frames held back while the laser sweeps enough surface for the scene's
+  // plane (SurfaceModelOptions::min_plane_width_m): ~1 s at 144 Hz, where
+  // the tank target's slowest sweep covers 5 cm in ~125 frames.
+  int max_init_frames = 150;
   int init_attempt_every = 3;  // frames between initialisation attempts
+  // Times the held frames are tracked on the starting surface and their
+  // profiles placed again with those poses before tracking goes on.
+  int init_refinements = 2;
   void Check() const;
 };
 
@@ -70,11 +76,20 @@ class SelfReferencedPoseProvider : public PoseProvider {
     FrameInput input;  // image owned (cloned)
     cv::Mat mask;
     laser::Profile profile;
+    // Where tracking put it in an initialisation attempt (relative to the
+    // first held frame), for placing its profile in the next attempt.
+    std::optional<Rigid3d> pose_guess;
   };
   // On the first frame: the passive colour straight from the raw mosaic if
   // the frames are raw and tracking is at half resolution or less.
   void ChooseTrackedImage(const cv::Mat& frame);
   std::vector<PoseUpdate> TryInitialize();
+  // A new odometry on surface_, started at the first held frame; false (and
+  // no odometry) if it cannot start there.
+  bool StartOdometry(const Rigid3d& origin);
+  // Held frame i's pose_guess, else that of the nearest earlier frame with
+  // one, else `origin` (the first held frame's pose).
+  Rigid3d PoseGuess(size_t i, const Rigid3d& origin) const;
   std::optional<PoseUpdate> Track(const Held& frame);
   // Tracking lost or not believed: drop the map and hold frames again.
   void Restart();

@@ -342,8 +342,9 @@ void ReadPeakProfile(const cv::Mat& image, ColourLayout layout, const Peak& peak
   const int lo = std::max(0, k - outer), hi = std::min(n - 1, k + outer);
   p->laser.resize(hi - lo + 1);
   for (int j = lo; j <= hi; ++j) p->laser[j - lo] = samples.Raw(j);
-  if (albedo) FullResolutionChannel(image, layout, peak.line, o.albedo_channel, lo, hi - lo + 1,
-                                    &p->reference);
+  if (albedo)
+    FullResolutionChannel(image, layout, peak.line, o.albedo_channel, lo, hi - lo + 1,
+                          &p->reference);
   p->lo = lo, p->origin = peak.offset, p->step = peak.stride;
   p->best = k - lo;
 }
@@ -411,9 +412,9 @@ bool OnAlbedoEdge(const DetectorOptions& o, double crosstalk, const PeakProfile&
 // support. Full-resolution position across the line.
 double RefinePeak(const PeakProfile& p) {
   const float background = *std::min_element(p.laser.begin(), p.laser.end());
-  const double position = p.lo + GaussianPeakPosition(p.laser.data(),
-                                                      static_cast<int>(p.laser.size()), p.best,
-                                                      p.half_width, background, kSaturation);
+  const double position =
+      p.lo + GaussianPeakPosition(p.laser.data(), static_cast<int>(p.laser.size()), p.best,
+                                  p.half_width, background, kSaturation);
   return p.origin + p.step * position;
 }
 

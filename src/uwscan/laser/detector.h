@@ -119,7 +119,7 @@ struct Detection {
   // Line points dropped on an albedo edge (DetectorOptions::albedo_channel):
   // biased, so not in `points`, but masked.
   std::vector<LaserPoint> albedo_edge_points;
-  cv::Mat mask;                    // CV_8U, 255 where the line is; empty if !make_mask
+  cv::Mat mask;  // CV_8U, 255 where the line is; empty if !make_mask
   DetectionStats stats;
 };
 

@@ -34,7 +34,7 @@ struct SweepFilterOptions {
   // the sheet").
   double static_tolerance_px = 2.0;
   double tolerance_of_shift = 0.5;
-  int line_search = 1;                 // reference scan lines looked at on each side
+  int line_search = 1;  // reference scan lines looked at on each side
   void Check() const;
 };
 

@@ -230,10 +230,8 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   turbid.frames_with_line = 104;
   turbid.points = 104 * 13;
   turbid.frames_without_pose = 1;
-  turbid.pose_details = {{"tracked", 199},
-                         {"keyframes", 199},
-                         {"lost", 1},
-                         {"implausible_poses_rejected", 1}};
+  turbid.pose_details = {
+      {"tracked", 199}, {"keyframes", 199}, {"lost", 1}, {"implausible_poses_rejected", 1}};
   const auto warnings = turbid.Warnings();
   ASSERT_EQ(warnings.size(), 6u);
   EXPECT_NE(warnings[0].find("no laser line in 48 %"), std::string::npos) << warnings[0];
