@@ -36,6 +36,16 @@ std::optional<Eigen::Vector2i> SurfaceModel::CellOf(const Eigen::Vector3d& point
 }
 
 void SurfaceModel::AddProfile(const Rigid3d& world_from_camera, const laser::Profile& profile) {
+  if (static_cast<int>(profile.points.size()) >= options_.min_points) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto& p : profile.points) centroid += p.point_in_camera;
+    centroid = world_from_camera * (centroid / profile.points.size());
+    // The newest profiles are the ones that matter for the sweep's width.
+    if (static_cast<int>(profile_centroids_.size()) < kMaxProfileCentroids)
+      profile_centroids_.push_back(centroid);
+    else
+      profile_centroids_[profiles_++ % kMaxProfileCentroids] = centroid;
+  }
   for (const auto& p : profile.points) {
     const Eigen::Vector3d world = world_from_camera * p.point_in_camera;
     // Reservoir sampling (xorshift) keeps a uniform bounded sample.
@@ -130,6 +140,22 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
       return plane_;
     }
     const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+    // One curved profile (a hull, a shaft in front of it) also spreads
+    // across its longest direction, but within the laser sheet: its plane
+    // would be the sheet. The profiles themselves must lie apart across the
+    // line, in the plane.
+    const Eigen::Vector3d across = normal.cross(solver.eigenvectors().col(2)).normalized();
+    double sum = 0.0, sum_squares = 0.0;
+    for (const auto& c : profile_centroids_) {
+      const double x = across.dot(c - centroid);
+      sum += x, sum_squares += x * x;
+    }
+    const double count = std::max<double>(profile_centroids_.size(), 1.0);
+    const double variance = sum_squares / count - (sum / count) * (sum / count);
+    if (!(std::sqrt(12.0 * std::max(variance, 0.0)) >= options_.min_plane_width_m)) {
+      plane_.reset();
+      return plane_;
+    }
     plane_ = std::pair{centroid, normal};
     for (size_t i = 0; i < samples_.size(); ++i) {
       const double r = std::abs(normal.dot(samples_[i] - centroid));

@@ -80,6 +80,10 @@ class SurfaceModel {
   // Reservoir sample of all points for the dominant plane (robust fit,
   // refreshed lazily).
   std::vector<Eigen::Vector3d> samples_;
+  // Centroids of the profiles (the newest kMaxProfileCentroids).
+  static constexpr int kMaxProfileCentroids = 512;
+  std::vector<Eigen::Vector3d> profile_centroids_;
+  long profiles_ = 0;
   long seen_ = 0;
   uint64_t random_state_ = 88172645463325252ull;
   mutable bool plane_dirty_ = true;

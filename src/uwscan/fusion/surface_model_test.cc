@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "uwscan/sim/scenario.h"
 
 namespace uwscan::fusion {
@@ -54,6 +56,39 @@ TEST(SurfaceModel, RaysMeetTheSweptSurface) {
   EXPECT_GT(hits, 20);
   EXPECT_LT(worst, 0.008) << hits << " hits";  // the 5 mm board edge is smoothed over
   EXPECT_GT(misses, 0);                        // not swept yet: no depth rather than a guess
+}
+
+// A single profile over a hull with a shaft in front of it spreads across
+// its longest direction, but within the laser sheet: its best plane is the
+// sheet, not the surface. No dominant plane until profiles lie apart across
+// the line; then the surface's.
+TEST(SurfaceModel, OneProfileGivesNoPlane) {
+  const Camera camera = Camera::Flat1();
+  // A hull of 4 m radius, z = 2 + x^2 / 8 (camera frame), and a shaft at
+  // z = 1.3 for |x| < 0.12; sheets y = const.
+  const auto profile_at = [](double y, bool shaft) {
+    laser::Profile profile;
+    for (double x = -0.6; x <= 0.6; x += 0.01) {
+      const double z = shaft && std::abs(x) < 0.12 ? 1.3 : 2.0 + x * x / 8.0;
+      profile.points.push_back({Eigen::Vector3d(x, y, z), Eigen::Vector2d::Zero(), 1.0f});
+    }
+    return profile;
+  };
+  SurfaceModel with_shaft(camera, Rigid3d(), SurfaceModelOptions{});
+  with_shaft.AddProfile(Rigid3d(), profile_at(0.0, true));
+  EXPECT_FALSE(with_shaft.HasDominantPlane());
+
+  SurfaceModel hull(camera, Rigid3d(), SurfaceModelOptions{});
+  for (double y = 0.0; y <= 0.1; y += 0.01) hull.AddProfile(Rigid3d(), profile_at(y, false));
+  ASSERT_TRUE(hull.HasDominantPlane());
+  // Beyond the swept band: the extrapolated plane is the surface's (z ~ 2),
+  // not the sheet's (y ~ 0.05).
+  const auto hit =
+      hull.Intersect(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0.15, 1).normalized());
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_TRUE(hit->extrapolated);
+  EXPECT_NEAR(hit->point.z(), 2.015, 0.03) << hit->point.transpose();
+  EXPECT_NEAR(hit->point.y(), 0.3, 0.01);
 }
 
 }  // namespace
