@@ -122,8 +122,34 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
   plane_dirty_ = false;
   plane_.reset();
   if (static_cast<int>(samples_.size()) < options_.min_points) return plane_;
-  // Iteratively reweighted total least squares (Huber, 5 mm).
+  // RANSAC first, so that a shaft in front of a hull (or a target on a
+  // floor) does not tilt the plane most of the points lie on; then
+  // iteratively reweighted total least squares (Huber, 5 mm, within the
+  // inlier band) from its inliers.
   std::vector<double> weights(samples_.size(), 1.0);
+  {
+    const size_t n = samples_.size();
+    const size_t score_stride = std::max<size_t>(1, n / 500);
+    uint64_t state = 0x9E3779B97F4A7C15ull;  // deterministic
+    const auto pick = [&state, n] {
+      state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+      return static_cast<size_t>(state % n);
+    };
+    int best_score = -1;
+    Eigen::Vector3d best_point = Eigen::Vector3d::Zero(), best_normal = Eigen::Vector3d::UnitZ();
+    for (int iteration = 0; iteration < kRansacIterations; ++iteration) {
+      const Eigen::Vector3d& a = samples_[pick()];
+      const Eigen::Vector3d normal = (samples_[pick()] - a).cross(samples_[pick()] - a);
+      if (!(normal.norm() > 1e-9)) continue;
+      const Eigen::Vector3d unit = normal.normalized();
+      int score = 0;
+      for (size_t i = 0; i < n; i += score_stride)
+        score += std::abs(unit.dot(samples_[i] - a)) <= options_.plane_inlier_m;
+      if (score > best_score) best_score = score, best_point = a, best_normal = unit;
+    }
+    for (size_t i = 0; i < n; ++i)
+      weights[i] = std::abs(best_normal.dot(samples_[i] - best_point)) <= options_.plane_inlier_m;
+  }
   for (int iteration = 0; iteration < 4; ++iteration) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     double total = 0.0;
@@ -158,8 +184,10 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
     }
     plane_ = std::pair{centroid, normal};
     for (size_t i = 0; i < samples_.size(); ++i) {
+      // Huber within the inlier band, nothing beyond: a Huber weight alone
+      // lets far points (a shaft) grow in the scatter as w r^2 = 5 mm x r.
       const double r = std::abs(normal.dot(samples_[i] - centroid));
-      weights[i] = r <= 0.005 ? 1.0 : 0.005 / r;
+      weights[i] = r <= 0.005 ? 1.0 : (r <= options_.plane_inlier_m ? 0.005 / r : 0.0);
     }
   }
   return plane_;

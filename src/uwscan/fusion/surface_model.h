@@ -35,6 +35,7 @@ struct SurfaceModelOptions {
   // all laser points (a sea floor, a hull plate), with this uncertainty.
   bool extrapolate_plane = true;
   double extrapolated_sigma_m = 0.02;
+  double plane_inlier_m = 0.03;  // RANSAC inlier band of the dominant plane
   double local_sigma_m = 0.002;
   int max_plane_samples = 4000;
   void Check() const;
@@ -82,6 +83,7 @@ class SurfaceModel {
   std::vector<Eigen::Vector3d> samples_;
   // Centroids of the profiles (the newest kMaxProfileCentroids).
   static constexpr int kMaxProfileCentroids = 512;
+  static constexpr int kRansacIterations = 100;
   std::vector<Eigen::Vector3d> profile_centroids_;
   long profiles_ = 0;
   long seen_ = 0;

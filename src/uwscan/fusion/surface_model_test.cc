@@ -91,5 +91,29 @@ TEST(SurfaceModel, OneProfileGivesNoPlane) {
   EXPECT_NEAR(hit->point.y(), 0.3, 0.01);
 }
 
+// A shaft 0.6 m in front of a flat hull, on a quarter of every profile,
+// must not tilt the dominant plane the rest of the view takes its depth
+// from (RANSAC before the reweighted fit).
+TEST(SurfaceModel, DominantPlaneIgnoresAShaftInFront) {
+  const Camera camera = Camera::Flat1();
+  SurfaceModel surface(camera, Rigid3d(), SurfaceModelOptions{});
+  for (double y = -0.05; y <= 0.05; y += 0.005) {
+    laser::Profile profile;
+    for (double x = -0.6; x <= 0.6; x += 0.01) {
+      const double z = x > 0.3 ? 1.4 : 2.0;  // the shaft on the right quarter
+      profile.points.push_back({Eigen::Vector3d(x, y, z), Eigen::Vector2d::Zero(), 1.0f});
+    }
+    surface.AddProfile(Rigid3d(), profile);
+  }
+  ASSERT_TRUE(surface.HasDominantPlane());
+  for (const double x : {-0.4, 0.0}) {
+    const auto hit =
+        surface.Intersect(Eigen::Vector3d::Zero(), Eigen::Vector3d(x, 0.3, 2.0).normalized());
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_TRUE(hit->extrapolated);
+    EXPECT_NEAR(hit->point.z(), 2.0, 0.01) << hit->point.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace uwscan::fusion
