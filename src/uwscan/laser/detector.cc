@@ -141,7 +141,7 @@ constexpr float kSaturation = 0.999f;
 // albedo channel's at the same positions (DetectorOptions::albedo_channel).
 struct PeakProfile {
   std::vector<float> laser;
-  std::vector<float> reference;  // empty: no albedo correction here
+  std::vector<float> reference;  // empty: no albedo test here
   int lo = 0;                    // full-resolution position of sample 0 is origin + step * lo
   int origin = 0, step = 1;
   int best = 0;        // index of the raw maximum
