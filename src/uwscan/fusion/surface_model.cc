@@ -147,6 +147,7 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
         score += std::abs(unit.dot(samples_[i] - a)) <= options_.plane_inlier_m;
       if (score > best_score) best_score = score, best_point = a, best_normal = unit;
     }
+    if (best_score < 0) return plane_;  // every sample collinear: no plane
     for (size_t i = 0; i < n; ++i)
       weights[i] = std::abs(best_normal.dot(samples_[i] - best_point)) <= options_.plane_inlier_m;
   }
