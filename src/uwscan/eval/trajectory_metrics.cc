@@ -3,11 +3,41 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
+#include <utility>
 
 #include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
+
+// See TrajectoryMetrics::scale_interval_low. Blocks of consecutive poses
+// keep the errors' correlation in time; deterministic (fixed seed).
+std::pair<double, double> ScaleInterval(const std::vector<Eigen::Vector3d>& estimate,
+                                        const std::vector<Eigen::Vector3d>& truth) {
+  constexpr int kBlocks = 20, kResamples = 200;
+  const size_t n = estimate.size();
+  const size_t block = std::max<size_t>(1, (n + kBlocks - 1) / kBlocks);
+  const size_t blocks = (n + block - 1) / block;
+  std::mt19937 rng(12345);
+  std::uniform_int_distribution<size_t> pick(0, blocks - 1);
+  std::vector<double> scales;
+  std::vector<Eigen::Vector3d> source, target;
+  for (int r = 0; r < kResamples; ++r) {
+    source.clear(), target.clear();
+    for (size_t b = 0; b < blocks; ++b) {
+      const size_t first = pick(rng) * block;
+      for (size_t i = first; i < std::min(n, first + block); ++i) {
+        source.push_back(estimate[i]);
+        target.push_back(truth[i]);
+      }
+    }
+    if (const auto sim = AlignSim3(source, target, true)) scales.push_back(sim->scale);
+  }
+  if (scales.size() < 20) return {std::nan(""), std::nan("")};
+  std::sort(scales.begin(), scales.end());
+  return {scales[scales.size() * 25 / 1000], scales[scales.size() * 975 / 1000]};
+}
 
 double AngleDeg(const Eigen::Quaterniond& q) {
   return Eigen::AngleAxisd(q.normalized()).angle() * 180.0 / M_PI;
@@ -73,6 +103,10 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
             "trajectory metrics: positions are degenerate (collinear or identical), "
             "cannot align");
   metrics.alignment = *alignment;
+  if (options.align_scale) {
+    const auto [low, high] = ScaleInterval(est_positions, gt_positions);
+    metrics.scale_interval_low = low, metrics.scale_interval_high = high;
+  }
   std::vector<Rigid3d> aligned;
   for (const Rigid3d& pose : est) aligned.push_back(metrics.alignment * pose);
 
@@ -147,11 +181,13 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
 std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
   char buffer[1024];
   std::snprintf(buffer, sizeof(buffer),
-                "poses: %d associated, ground-truth path %.3f m, Sim(3) scale %.6g\n"
+                "poses: %d associated, ground-truth path %.3f m, Sim(3) scale %.6g "
+                "(95 %% block-bootstrap interval %.4g-%.4g)\n"
                 "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n"
                 "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n"
                 "drift (KITTI, %d segments): %.3f %% translation, %.4f deg/m rotation\n",
-                m.associated, m.path_length_m, m.alignment.scale, m.ate_rmse_m, m.ate_mean_m,
+                m.associated, m.path_length_m, m.alignment.scale, m.scale_interval_low,
+                m.scale_interval_high, m.ate_rmse_m, m.ate_mean_m,
                 m.ate_median_m, m.ate_max_m, 1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg,
                 m.rpe_pairs, m.drift_segments, m.drift_trans_percent, m.drift_rot_deg_per_m);
   std::string out = buffer;

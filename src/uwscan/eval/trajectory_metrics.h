@@ -31,6 +31,11 @@ struct TrajectoryMetrics {
   int associated = 0;        // pose pairs used
   double path_length_m = 0;  // ground-truth path length over the associated poses
   Sim3d alignment;           // ground_truth_world_from_estimate_world
+  // 95 % interval of the Sim(3) scale by a block bootstrap over time (20
+  // blocks of consecutive poses, 200 resamples): how well the positions
+  // pin the scale down. Narrow on a transect; on a hover whose positions
+  // span a few centimetres, millimetres of error move it by percents.
+  double scale_interval_low = 1.0, scale_interval_high = 1.0;
   // ATE on positions after alignment (m).
   double ate_rmse_m = 0, ate_mean_m = 0, ate_median_m = 0, ate_max_m = 0;
   // RPE per `rpe_step` (m, deg), after applying the alignment scale.

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "uwscan/util/error.h"
@@ -106,6 +107,37 @@ TEST(TrajectoryMetrics, PerfectEstimateAndGaps) {
   std::vector<StampedPose> late = estimate;
   for (auto& pose : late) pose.timestamp_s += 100;
   EXPECT_THROW(ComputeTrajectoryMetrics(late, truth), Error);
+}
+
+// The same 2 mm of smooth position error pins the scale of a 20 m transect
+// down to a fraction of a per cent, and that of a hover spanning 3 cm only to
+// several per cent: the block-bootstrap interval says so, and holds the
+// truth in both.
+TEST(TrajectoryMetrics, ScaleIntervalShowsHowWellTheScaleIsPinned) {
+  const auto run = [](double extent_m) {
+    std::vector<StampedPose> truth, estimate;
+    for (int i = 0; i < 600; ++i) {
+      const double t = i / 100.0;
+      const Eigen::Vector3d p(extent_m * t / 6.0, 0.3 * extent_m * std::sin(t),
+                              0.2 * extent_m * std::cos(0.7 * t));
+      const Eigen::Vector3d error(0.002 * std::sin(3.1 * t), 0.002 * std::cos(2.3 * t),
+                                  0.002 * std::sin(1.7 * t + 1.0));
+      truth.push_back({t, Rigid3d({1, 0, 0, 0}, p)});
+      estimate.push_back({t, Rigid3d({1, 0, 0, 0}, 0.5 * (p + error))});  // monocular: half
+    }
+    return ComputeTrajectoryMetrics(estimate, truth);
+  };
+  const TrajectoryMetrics transect = run(20.0), hover = run(0.03);
+  for (const auto& m : {transect, hover}) {
+    EXPECT_LE(m.scale_interval_low, m.alignment.scale);
+    EXPECT_GE(m.scale_interval_high, m.alignment.scale);
+    EXPECT_LT(m.scale_interval_low, 2.0 + 1e-3);
+    EXPECT_GT(m.scale_interval_high, 2.0 - 1e-3);
+  }
+  const double transect_width = transect.scale_interval_high - transect.scale_interval_low;
+  const double hover_width = hover.scale_interval_high - hover.scale_interval_low;
+  EXPECT_LT(transect_width, 0.002);
+  EXPECT_GT(hover_width, 0.05);
 }
 
 }  // namespace
