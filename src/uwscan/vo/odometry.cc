@@ -59,6 +59,8 @@ void OdometryOptions::Check() const {
             "keyframe_min_tracked_ratio must be in [0, 1)");
   UWS_CHECK(max_init_frames >= 2, "max_init_frames must be >= 2");
   UWS_CHECK(min_pnp_inliers >= 4, "min_pnp_inliers must be >= 4");
+  UWS_CHECK(max_extrapolated_disagreement_px >= 0 && min_map_points_to_defer >= 0,
+            "extrapolated-depth check settings must be >= 0");
   UWS_CHECK(max_refine_points >= 6, "max_refine_points must be >= 6");
   UWS_CHECK(min_triangulation_angle_deg > 0, "min_triangulation_angle_deg must be > 0");
   UWS_CHECK(max_reprojection_px > 0, "max_reprojection_px must be > 0");
@@ -417,12 +419,12 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
     const auto it = last.observations.find(tr.id);
     if (it != last.observations.end()) flow.push_back((tr.pixel - it->second).norm());
   }
-  const bool keyframe = (options_.max_frames_between_keyframes > 0 &&
-                         result->frame_index - last.frame_index >=
-                             options_.max_frames_between_keyframes) ||
-                        Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
-                        inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
-                        (options_.keyframe_on_range_constraints && !ranges.empty());
+  const bool keyframe =
+      (options_.max_frames_between_keyframes > 0 &&
+       result->frame_index - last.frame_index >= options_.max_frames_between_keyframes) ||
+      Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
+      inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
+      (options_.keyframe_on_range_constraints && !ranges.empty());
   if (keyframe) AddKeyframe(camera_from_world, mask, ranges, result);
 }
 

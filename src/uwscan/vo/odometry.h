@@ -82,6 +82,13 @@ struct OdometryOptions {
   // on a hovering platform) get their map point there at keyframes, with a
   // range constraint of the hit's uncertainty in that keyframe.
   std::function<std::optional<SurfaceHit>(const Eigen::Vector3d&, const Eigen::Vector3d&)> surface;
+  // A depth the surface only extrapolated can belong to what lies behind
+  // the feature (a hull behind a shaft). Such a map point is made only once
+  // an earlier keyframe saw the feature too and the point re-projects there
+  // within this many pixels; not while the map is being started or holds
+  // fewer than min_map_points_to_defer points. 0: made at once, unchecked.
+  double max_extrapolated_disagreement_px = 1.0;
+  int min_map_points_to_defer = 50;
   // Scale prior: the expected median distance to the scene at the start
   // (altitude, laser range). Monocular VO is up to scale, but a refractive
   // camera is exact only at metric scale (its ray origins on the port are in
@@ -165,6 +172,9 @@ class Odometry {
   void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
                    const std::vector<RangeConstraint>& ranges, FrameResult* result);
   void PruneMap();
+  // See OdometryOptions::max_extrapolated_disagreement_px.
+  bool ExtrapolatedDepthAgrees(const Keyframe& keyframe, uint64_t id,
+                               const Eigen::Vector3d& point_world) const;
   // Map points for the newest keyframe's tracks from options_.surface.
   int AddSurfacePoints(Keyframe* keyframe);
   // Asynchronous BA (odometry_async.cc).
@@ -191,7 +201,7 @@ class Odometry {
   uint64_t next_keyframe_id_ = 0;
   int num_maps_ = 0;
   int last_keyframe_inliers_ = 0;
-  int remeasured_moved_ = 0;  // extrapolated points moved to the measured surface
+  int remeasured_moved_ = 0;        // extrapolated points moved to the measured surface
   Rigid3d last_camera_from_world_;  // last emitted pose
   double last_median_depth_ = 2.0;  // scale carried over a re-initialisation
   std::future<AdjustedWindow> pending_ba_;

@@ -17,6 +17,28 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+bool Odometry::ExtrapolatedDepthAgrees(const Keyframe& keyframe, uint64_t id,
+                                       const Eigen::Vector3d& point_world) const {
+  if (!(options_.max_extrapolated_disagreement_px > 0)) return true;
+  if (map_.keyframes.empty() ||
+      static_cast<int>(map_.points.size()) < options_.min_map_points_to_defer) {
+    return true;  // starting the map: every depth counts
+  }
+  int seen_before = 0;
+  for (const Keyframe& kf : map_.keyframes) {
+    if (kf.id == keyframe.id) continue;
+    const auto seen = kf.observations.find(id);
+    if (seen == kf.observations.end()) continue;
+    ++seen_before;
+    const auto projected = camera_.Project(kf.camera_from_world * point_world, options_.ba.method,
+                                           options_.ba.taylor_iterations);
+    if (!projected ||
+        (*projected - seen->second).norm() > options_.max_extrapolated_disagreement_px)
+      return false;
+  }
+  return seen_before > 0;  // first seen now: wait for the next keyframe
+}
+
 int Odometry::AddSurfacePoints(Keyframe* keyframe) {
   const Rigid3d world_from_camera = keyframe->WorldFromCamera();
   int added = 0;
@@ -41,13 +63,15 @@ int Odometry::AddSurfacePoints(Keyframe* keyframe) {
         existing->second.position_world = hit->point_world;
         for (Keyframe& kf : map_.keyframes) {
           auto& ranges = kf.range_constraints;
-          ranges.erase(std::remove_if(ranges.begin(), ranges.end(),
-                                      [id = id](const RangeConstraint& r) { return r.point_id == id; }),
-                       ranges.end());
+          ranges.erase(
+              std::remove_if(ranges.begin(), ranges.end(),
+                             [id = id](const RangeConstraint& r) { return r.point_id == id; }),
+              ranges.end());
         }
         ++remeasured_moved_;
       }
     } else {
+      if (hit->extrapolated && !ExtrapolatedDepthAgrees(*keyframe, id, hit->point_world)) continue;
       map_.points[id] = {id, hit->point_world, 1};
       if (hit->extrapolated) extrapolated_points_.insert(id);
     }
