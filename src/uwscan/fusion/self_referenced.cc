@@ -218,9 +218,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // from that surface; if it is too narrow for the scene's plane after all,
   // wait for more frames.
   for (int pass = 0; pass < options_.init_refinements && held_.size() > 2; ++pass) {
-    size_t tracked = 1;
-    for (; tracked < held_.size(); ++tracked) {
-      Held& h = held_[tracked];
+    for (size_t i = 1; i < held_.size(); ++i) {
+      Held& h = held_[i];
       const vo::FrameResult result =
           odometry_->ProcessFrame(h.input.image, h.mask, h.input.timestamp_s);
       if (!result.world_from_camera) break;

@@ -404,7 +404,8 @@ bool OnAlbedoEdge(const DetectorOptions& o, double crosstalk, const PeakProfile&
     darkest = std::min(darkest, albedo);
     brightest = std::max(brightest, albedo);
   }
-  return brightest > o.max_albedo_step * std::max(darkest, 1.0f / 255.0f);
+  constexpr float kOneGreyLevel = 1.0f / 255.0f;  // a black side is not infinitely dark
+  return brightest > o.max_albedo_step * std::max(darkest, kOneGreyLevel);
 }
 
 // Step 7, run only on the selected peaks: Gaussian fit on the raw samples

@@ -56,11 +56,8 @@ std::vector<std::string> ReconstructReport::Warnings() const {
       static_cast<double>(points) / frames_with_line < 0.5 * scan_lines) {
     warnings.push_back(
         "the profiles are short: " + std::to_string(points / std::max(frames_with_line, 1)) +
-        " points per frame "
-        "of " +
-        std::to_string(scan_lines) +
-        " scan lines (the line fades into "
-        "the water or leaves the scene)");
+        " points per frame of " + std::to_string(scan_lines) +
+        " scan lines (the line fades into the water or leaves the scene)");
   }
   if (frames_without_pose > 0) {
     warnings.push_back(std::to_string(frames_without_pose) + " frame(s) (" +
