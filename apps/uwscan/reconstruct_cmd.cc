@@ -16,6 +16,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto keep_static = std::make_shared<bool>(false);
   auto no_difference = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
+  auto main_camera_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "reconstruct",
       "Motion-compensated point cloud from a dataset: cloud.ply, cloud_uncompensated.ply, "
@@ -26,7 +27,12 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--poses", *poses, "external trajectory (TUM, world_from_camera) instead of VO");
   cmd->add_flag("--no-motion-compensation", *no_compensation,
                 "place every profile with the first pose (cloud.ply too)");
-  cmd->add_option("--camera", job->camera_name, "camera name (default: the first)");
+  cmd->add_option("--camera", job->camera_name,
+                  "camera name (default: the first; its images are in DATASET/frames.csv)");
+  cmd->add_flag("--main-camera-only", *main_camera_only,
+                "several-camera datasets: leave out the further cameras' profiles (images in "
+                "DATASET/NAME/; by default they join the cloud, placed with the main camera's "
+                "poses through the rig)");
   cmd->add_option("--laser", job->laser_name, "laser name (default: the first)");
   cmd->add_option("--max-frames", job->max_frames, "process only the first N frames");
   cmd->add_flag("--keep-static-detections", *keep_static,
@@ -58,6 +64,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->sweep_filter = !*keep_static;
     job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
+    job->other_cameras = !*main_camera_only;
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
       std::fprintf(stderr,
@@ -65,6 +72,11 @@ void RegisterReconstructCommand(CLI::App& app) {
                    "poses from %s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
                    r.pose_source.c_str(), r.seconds, r.RealTimeFactor(), out->c_str());
+      for (const CameraReport& camera : r.other_cameras) {
+        std::fprintf(stderr, "reconstruct: camera %s with %s: %d frames (%d with a line), %ld points\n",
+                     camera.name.c_str(), camera.laser.c_str(), camera.frames,
+                     camera.frames_with_line, camera.points);
+      }
     }
     for (const std::string& warning : r.Warnings())
       std::fprintf(stderr, "reconstruct: warning: %s\n", warning.c_str());

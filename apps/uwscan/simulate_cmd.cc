@@ -17,6 +17,7 @@ struct SimulateArgs {
   double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0,
          laser_tilt_deg = 5;
   bool quiet = false, laser_interleave = false;
+  int pods = 1;
 };
 
 void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
@@ -44,6 +45,7 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   options.painted_stripe_m = args.painted_stripe;
   options.painted_stripe_colour = args.stripe_colour;
   options.laser_interleave = args.laser_interleave;
+  options.pods = args.pods;
   try {
     if (given("--output")) options.output = sim::OutputFormatFromName(args.output);
     options.Check();
@@ -104,6 +106,10 @@ void RegisterSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--laser-interleave", args->laser_interleave,
                 "lasers on in even frames only (frames.csv gets a laser_on column)");
+  cmd->add_option("--pods", args->pods,
+                  "tank-target, hull: 2 = the two-pod vehicle of thesis §6.5 (each camera uses the "
+                  "other pod's laser; camera cam1's images in OUT/cam1/)")
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "render threads")->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "no progress bar or summary");
   cmd->callback([args, cmd] { RunSimulate(*args, *cmd); });

@@ -99,7 +99,8 @@ const SurfaceAccuracy* CloudAccuracy::Surface(const std::string& name) const {
 CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
                             const std::map<int, Rigid3d>& estimated,
                             const std::map<int, Rigid3d>& truth, const Camera& camera,
-                            const sim::Scene& scene, unsigned seed) {
+                            const sim::Scene& scene,
+                            const std::map<int, const Camera*>& frame_cameras, unsigned seed) {
   // The first frame both trajectories know anchors the estimated world.
   std::optional<Rigid3d> true_from_estimated;
   for (const auto& [frame, pose] : estimated) {
@@ -119,9 +120,11 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
     const auto est = estimated.find(point.frame);
     const auto tru = truth.find(point.frame);
     if (est == estimated.end() || tru == truth.end()) continue;
-    const auto pixel = camera.Project(est->second.Inverse() * point.position);
+    const auto other = frame_cameras.find(point.frame);
+    const Camera& taken_by = other == frame_cameras.end() ? camera : *other->second;
+    const auto pixel = taken_by.Project(est->second.Inverse() * point.position);
     if (!pixel) continue;
-    const auto ray = camera.BackProject(*pixel);
+    const auto ray = taken_by.BackProject(*pixel);
     if (!ray) continue;
     const Rigid3d& world_from_camera = tru->second;
     const auto hit = scene.Intersect(world_from_camera * ray->origin,

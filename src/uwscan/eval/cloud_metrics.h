@@ -48,10 +48,14 @@ struct CloudAccuracy {
 // cloud's world is mapped onto the true world through the first frame both
 // know. Each point's pixel is recovered by projecting it into its frame with
 // the estimated pose (it was triangulated on that pixel's ray), and its
-// true position is the true ray of that pixel on the scene.
+// true position is the true ray of that pixel on the scene. Frames listed
+// in `frame_cameras` were taken by that camera (several-camera rigs), the
+// others by `camera`.
 CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
                             const std::map<int, Rigid3d>& estimated,
                             const std::map<int, Rigid3d>& truth, const Camera& camera,
-                            const sim::Scene& scene, unsigned seed = 1);
+                            const sim::Scene& scene,
+                            const std::map<int, const Camera*>& frame_cameras = {},
+                            unsigned seed = 1);
 
 }  // namespace uwscan

@@ -5,6 +5,7 @@
 
 #include "uwscan/io/dataset.h"
 #include "uwscan/io/ply.h"
+#include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/error.h"
@@ -46,17 +47,43 @@ ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const f
   sim::Scenario scenario = sim::LoadDatasetScenario(dataset);
   scenario.config.scene.Prepare();
   const Camera& camera = scenario.config.rig.cameras.front();
-  const auto truth = PosesByFrame(dataset / "groundtruth.tum", dataset / "frames.csv");
-  const auto estimated = PosesByFrame(result / "trajectory.tum", dataset / "frames.csv");
+  auto truth = PosesByFrame(dataset / "groundtruth.tum", dataset / "frames.csv");
+  auto estimated = PosesByFrame(result / "trajectory.tum", dataset / "frames.csv");
   UWS_CHECK(!estimated.empty(), (result / "trajectory.tum").string(), ": no pose matches a frame");
   // The uncompensated cloud places every profile with the first pose.
+  const Rigid3d first_pose = estimated.begin()->second;
   std::map<int, Rigid3d> first_everywhere;
-  for (const auto& [frame, pose] : truth) first_everywhere[frame] = estimated.begin()->second;
+  for (const auto& [frame, pose] : truth) first_everywhere[frame] = first_pose;
+  // Further cameras of the rig (DATASET/NAME/, reconstructed into
+  // OUT/trajectory_NAME.tum): their frames, true and placed poses.
+  std::vector<Rig> other_rigs;
+  for (const Camera& other : scenario.config.rig.cameras) {
+    const fs::path folder = dataset / other.name, placed = result / ("trajectory_" + other.name + ".tum");
+    if (&other == &camera || !fs::exists(folder / "frames.csv") || !fs::exists(placed)) continue;
+    other_rigs.push_back(ReadRigYaml(folder / "rig.yaml"));
+  }
+  std::map<int, const Camera*> frame_cameras;
+  for (const Rig& rig : other_rigs) {
+    const Camera& other = rig.cameras.front();
+    const fs::path folder = dataset / other.name;
+    const Rigid3d main_from_other = camera.rig_from_camera.Inverse() * other.rig_from_camera;
+    for (const auto& [frame, pose] :
+         PosesByFrame(folder / "groundtruth.tum", folder / "frames.csv")) {
+      truth[frame] = pose;
+      first_everywhere[frame] = first_pose * main_from_other;
+      frame_cameras[frame] = &other;
+    }
+    for (const auto& [frame, pose] :
+         PosesByFrame(result / ("trajectory_" + other.name + ".tum"), folder / "frames.csv")) {
+      estimated[frame] = pose;
+    }
+  }
   ReconstructionEvaluation evaluation;
-  evaluation.compensated =
-      EvaluateCloud(ReadPly(result / "cloud.ply"), estimated, truth, camera, scenario.config.scene);
-  evaluation.uncompensated = EvaluateCloud(ReadPly(result / "cloud_uncompensated.ply"),
-                                           first_everywhere, truth, camera, scenario.config.scene);
+  evaluation.compensated = EvaluateCloud(ReadPly(result / "cloud.ply"), estimated, truth, camera,
+                                         scenario.config.scene, frame_cameras);
+  evaluation.uncompensated =
+      EvaluateCloud(ReadPly(result / "cloud_uncompensated.ply"), first_everywhere, truth, camera,
+                    scenario.config.scene, frame_cameras);
   return evaluation;
 }
 

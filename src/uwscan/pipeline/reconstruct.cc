@@ -52,10 +52,12 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the frames with the laser on (turbid or dark water, the line out "
                        "of view or too weak): those frames add nothing to the cloud");
   }
+  long main_points = points;  // the main camera's
+  for (const auto& camera : other_cameras) main_points -= camera.points;
   if (frames_with_line > 0 && scan_lines > 0 &&
-      static_cast<double>(points) / frames_with_line < 0.5 * scan_lines) {
+      static_cast<double>(main_points) / frames_with_line < 0.5 * scan_lines) {
     warnings.push_back(
-        "the profiles are short: " + std::to_string(points / std::max(frames_with_line, 1)) +
+        "the profiles are short: " + std::to_string(main_points / std::max(frames_with_line, 1)) +
         " points per frame of " + std::to_string(scan_lines) +
         " scan lines (the line fades into the water or leaves the scene)");
   }
@@ -64,6 +66,15 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        percent(frames_without_pose, frames) +
                        " %) got no pose and are left out of the cloud (tracking not started or "
                        "lost)");
+  }
+  for (const auto& camera : other_cameras) {
+    if (camera.frames_without_pose > 0 || camera.frames_with_line < 0.9 * camera.frames) {
+      warnings.push_back("camera " + camera.name + ": " +
+                         std::to_string(camera.frames - camera.frames_with_line) +
+                         " frame(s) without a laser line, " +
+                         std::to_string(camera.frames_without_pose) +
+                         " outside the main camera's trajectory (left out)");
+    }
   }
   const auto count = [&](const char* key) {
     return pose_details.is_object() && pose_details.contains(key) &&
@@ -99,7 +110,18 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   return warnings;
 }
 
+nlohmann::json CameraReport::ToJson() const {
+  return {{"camera", name},
+          {"laser", laser},
+          {"frames", frames},
+          {"frames_with_line", frames_with_line},
+          {"frames_without_pose", frames_without_pose},
+          {"points", points}};
+}
+
 nlohmann::json ReconstructReport::ToJson() const {
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const auto& camera : other_cameras) cameras.push_back(camera.ToJson());
   return {{"frames", frames},
           {"warnings", Warnings()},
           {"frames_with_line", frames_with_line},
@@ -114,6 +136,7 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},
           {"pose", pose_details},
+          {"other_cameras", cameras},
           {"timing_s",
            {{"total", seconds},
             {"laser_detection", seconds_detect},
@@ -124,6 +147,205 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"real_time_factor", RealTimeFactor()}};
 }
 
+namespace {
+
+// One camera's laser stage: the line in each frame (the sweep filter on
+// servo scans, difference images on interleaved ones) and its profile.
+class LineStage {
+ public:
+  LineStage(const ReconstructJob& job, fs::path dataset, const Camera& camera,
+            const LineProjector& laser, const Rigid3d& camera_from_laser,
+            const std::vector<FrameRecord>& frames, ReconstructReport* report)
+      : job_(job),
+        dataset_(std::move(dataset)),
+        camera_(camera),
+        laser_(laser),
+        camera_from_laser_(camera_from_laser),
+        frames_(frames),
+        report_(report) {
+    detector_ = job.detector;
+    detector_.scan_rows = LaserLineIsVertical(camera, camera_from_laser);
+    detector_.laser_channel = laser::ChannelForWavelength(laser.wavelength_nm);
+    detector_.albedo_channel =
+        job.drop_albedo_edges ? laser::AlbedoChannelFor(detector_.laser_channel) : -1;
+    detector_.make_mask = true;
+    if (job.sweep_filter) StartSweepFilter();
+  }
+
+  const laser::DetectorOptions& detector() const { return detector_; }
+  int ScanLines() const { return detector_.scan_rows ? camera_.height : camera_.width; }
+
+  // Frame i of the sequence, its image as read: the line and its profile.
+  void Process(size_t i, const cv::Mat& image, laser::Detection* detection,
+               laser::Profile* profile) {
+    const FrameRecord& record = frames_[i];
+    UWS_CHECK(image.cols == camera_.width && image.rows == camera_.height,
+              (dataset_ / record.file).string(), ": image is ", image.cols, "x", image.rows,
+              " but camera '", camera_.name, "' is ", camera_.width, "x", camera_.height);
+    auto t = std::chrono::steady_clock::now();
+    // Interleaved scans (frames.csv laser_on, thesis §5.4): nothing to detect
+    // with the laser off; with it on, the line is found in the difference to
+    // the previous (laser-off) frame, where the scene's own texture, a
+    // painted stripe or the ambient light cancel.
+    const bool laser_off = record.laser_on && !*record.laser_on;
+    const bool difference = job_.detect_on_difference && record.laser_on && !laser_off;
+    *detection = {};
+    if (difference && (i == 0 || dark_image_.empty() || dark_frame_ != i - 1)) {
+      // No laser-off frame just before (the first frame): the line is not
+      // looked for in the raw image, where the scene could pass for it.
+    } else if (!laser_off) {
+      if (difference) {
+        cv::Mat lit_only;
+        cv::subtract(image, dark_image_, lit_only);  // saturates at 0
+        *detection = Detect(lit_only, record);
+        ++report_->frames_on_difference;
+      } else {
+        *detection = Detect(image, record);
+      }
+      report_->static_detections_removed += detection->stats.excluded_candidates;
+      report_->albedo_edge_points += detection->stats.albedo_edge_points;
+      // Noise and texture peaks are ignored now and then on any scene; a
+      // stripe or reflection shows on many scan lines of a frame.
+      report_->frames_with_static_detections +=
+          detection->stats.excluded_candidates >= 0.05 * ScanLines();
+      report_->frames_sweep_filter_restored += detection->stats.exclusion_restored;
+    } else {
+      ++report_->frames_laser_off;
+      dark_image_ = image;
+      dark_frame_ = i;
+    }
+    report_->seconds_detect += Seconds(t);
+
+    t = std::chrono::steady_clock::now();
+    const double angle = record.laser_angle_rad.value_or(0.0);
+    *profile = laser::TriangulateProfile(camera_, laser_,
+                                         laser::CameraFromLaserAtAngle(camera_from_laser_, angle),
+                                         detection->points, record.index);
+    report_->triangulation_failures += profile->failed;
+    report_->seconds_triangulate += Seconds(t);
+  }
+
+ private:
+  // The line in one frame; on servo scans, candidates standing where
+  // candidates stood while the sheet turned are a stripe or reflection, not
+  // the line (§5.5), and where nearly all would go (the line runs along a
+  // stripe) only what stands exactly where the stripe stood is left out.
+  laser::Detection Detect(const cv::Mat& image, const FrameRecord& record) {
+    laser::DetectorOptions options = detector_;
+    const bool sweeping = sweep_filter_ && record.laser_angle_rad;
+    if (sweeping) {
+      sweep_filter_->Begin(record.index, *record.laser_angle_rad);
+      options.exclude_candidate = sweep_filter_->Predicate();
+      options.exclude_candidate_on_restore = sweep_filter_->Predicate(/*strict=*/true);
+      options.keep_candidates = true;
+    }
+    laser::Detection detection =
+        laser::DetectLaserLine(image, laser::LayoutFor(camera_.bayer, image.channels()), options);
+    if (sweeping) {
+      sweep_filter_->End(detection.candidates);
+      detection.candidates = {};
+    }
+    return detection;
+  }
+
+  void StartSweepFilter() {
+    laser::SweepFilterOptions sweep;
+    sweep.scan_rows = detector_.scan_rows;
+    sweep.focal_px = detector_.scan_rows ? camera_.intrinsics[0] : camera_.intrinsics[1];
+    sweep_filter_.emplace(sweep);
+    // The first frames have no earlier frame the sheet has turned far
+    // enough from: remember the candidates of the first later frame that
+    // is (a fraction of a second ahead, the platform has hardly moved), so
+    // that a stripe is recognised from the first frame on. Interleaved
+    // scans need no such help (their difference images hold no stripe).
+    const bool interleaved = !frames_.empty() && frames_.front().laser_on.has_value();
+    if (interleaved || frames_.empty() || !frames_.front().laser_angle_rad) return;
+    const double start = *frames_.front().laser_angle_rad;
+    for (size_t k = 1; k < frames_.size() && k <= size_t(sweep.max_lag_frames); ++k) {
+      if (!frames_[k].laser_angle_rad ||
+          sweep.focal_px * std::abs(*frames_[k].laser_angle_rad - start) <
+              2.0 * sweep.min_expected_shift_px) {
+        continue;
+      }
+      const cv::Mat ahead = ReadImage(dataset_ / frames_[k].file);
+      if (ahead.cols != camera_.width || ahead.rows != camera_.height) break;  // reported later
+      Detect(ahead, frames_[k]);  // remembered by the filter
+      break;
+    }
+  }
+
+  const ReconstructJob& job_;
+  fs::path dataset_;
+  const Camera& camera_;
+  const LineProjector& laser_;
+  Rigid3d camera_from_laser_;
+  const std::vector<FrameRecord>& frames_;
+  ReconstructReport* report_;
+  laser::DetectorOptions detector_;
+  std::optional<laser::SweepFilter> sweep_filter_;
+  cv::Mat dark_image_;  // the last laser-off frame of an interleaved scan
+  size_t dark_frame_ = 0;
+};
+
+std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
+  auto frames = ReadFramesCsv(dataset / "frames.csv");
+  UWS_CHECK(!frames.empty(), (dataset / "frames.csv").string(), ": no frames");
+  if (max_frames > 0 && static_cast<int>(frames.size()) > max_frames) frames.resize(max_frames);
+  return frames;
+}
+
+// Reads frame i + 1 on a second thread while frame i is processed (a live
+// camera delivers decoded frames; PNG decoding of a dataset would otherwise
+// take a third of the time).
+class FrameReader {
+ public:
+  FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames)
+      : dataset_(std::move(dataset)), frames_(frames) {
+    if (!frames_.empty()) next_ = std::async(std::launch::async, [this] { return Read(0); });
+  }
+  cv::Mat Get(size_t i) {
+    cv::Mat image = next_.get();  // rethrows a read error
+    if (i + 1 < frames_.size()) {
+      next_ = std::async(std::launch::async, [this, i] { return Read(i + 1); });
+    }
+    return image;
+  }
+
+ private:
+  cv::Mat Read(size_t i) const { return ReadImage(dataset_ / frames_[i].file); }
+  fs::path dataset_;
+  const std::vector<FrameRecord>& frames_;
+  std::future<cv::Mat> next_;
+};
+
+// The further cameras of a several-camera dataset (sim --pods 2): camera
+// NAME's images in DATASET/NAME/, a dataset of its own whose rig lists that
+// camera and its laser first.
+struct OtherCamera {
+  fs::path folder;
+  Rig rig;                         // as DATASET/NAME/rig.yaml has it
+  Rigid3d main_from_camera;        // from the main camera, through the rig
+};
+
+std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& rig,
+                                          size_t main_camera) {
+  std::vector<OtherCamera> others;
+  for (size_t c = 0; c < rig.cameras.size(); ++c) {
+    const fs::path folder = dataset / rig.cameras[c].name;
+    if (c == main_camera || !fs::exists(folder / "frames.csv")) continue;
+    OtherCamera other{folder, ReadRigYaml(folder / "rig.yaml"),
+                      rig.cameras[main_camera].rig_from_camera.Inverse() *
+                          rig.cameras[c].rig_from_camera};
+    UWS_CHECK(other.rig.cameras.front().name == rig.cameras[c].name,
+              (folder / "rig.yaml").string(), ": lists camera '", other.rig.cameras.front().name,
+              "' first, but the folder holds camera '", rig.cameras[c].name, "''s images");
+    others.push_back(std::move(other));
+  }
+  return others;
+}
+
+}  // namespace
+
 ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
@@ -133,26 +355,26 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   const LineProjector& laser = rig.LaserByName(job.laser_name);
   const size_t camera_index = &camera - rig.cameras.data();
   const size_t laser_index = &laser - rig.lasers.data();
+  UWS_CHECK(camera_index == 0 || !fs::exists(job.dataset / camera.name / "frames.csv"),
+            "--camera ", camera.name, ": ", job.dataset.string(),
+            " holds the images of camera '", rig.cameras.front().name, "'; camera '",
+            camera.name, "''s are in ", (job.dataset / camera.name).string(),
+            " (reconstructing the whole dataset uses every camera)");
   const Rigid3d camera_from_laser = rig.CameraFromLaser(camera_index, laser_index);
-  auto frames = ReadFramesCsv(job.dataset / "frames.csv");
-  UWS_CHECK(!frames.empty(), (job.dataset / "frames.csv").string(), ": no frames");
-  if (job.max_frames > 0 && static_cast<int>(frames.size()) > job.max_frames)
-    frames.resize(job.max_frames);
-
-  laser::DetectorOptions detector = job.detector;
-  detector.scan_rows = LaserLineIsVertical(camera, camera_from_laser);
-  detector.laser_channel = laser::ChannelForWavelength(laser.wavelength_nm);
-  detector.albedo_channel =
-      job.drop_albedo_edges ? laser::AlbedoChannelFor(detector.laser_channel) : -1;
-  detector.make_mask = true;
+  const auto frames = ReadFrames(job.dataset, job.max_frames);
+  ReconstructReport report;
+  LineStage line_stage(job, job.dataset, camera, laser, camera_from_laser, frames, &report);
+  const std::vector<OtherCamera> others =
+      job.other_cameras && job.camera_name.empty() ? FindOtherCameras(job.dataset, rig, 0)
+                                                   : std::vector<OtherCamera>{};
 
   if (!provider && job.poses_file) {
     provider = std::make_unique<fusion::TrajectoryPoseProvider>(ReadTum(*job.poses_file),
                                                                 job.poses_file->string());
   }
   if (!provider) {
-    provider = std::make_unique<fusion::SelfReferencedPoseProvider>(camera, detector.laser_channel,
-                                                                    job.self_referenced);
+    provider = std::make_unique<fusion::SelfReferencedPoseProvider>(
+        camera, line_stage.detector().laser_channel, job.self_referenced);
   }
 
   std::error_code error;
@@ -162,70 +384,44 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   PlyStreamWriter uncompensated(job.out / "cloud_uncompensated.ply");
   TumWriter trajectory(job.out / "trajectory.tum");
 
-  ReconstructReport report;
   report.pose_source = provider->Name();
-  report.scan_lines = detector.scan_rows ? camera.height : camera.width;
-  std::optional<laser::SweepFilter> sweep_filter;
-  // The line in one frame; on servo scans, candidates standing where
-  // candidates stood while the sheet turned are a stripe or reflection, not
-  // the line (§5.5), and where nearly all would go (the line runs along a
-  // stripe) only what stands exactly where the stripe stood is left out.
-  const auto detect_line = [&](const cv::Mat& image, const FrameRecord& record) {
-    laser::DetectorOptions options = detector;
-    const bool sweeping = sweep_filter && record.laser_angle_rad;
-    if (sweeping) {
-      sweep_filter->Begin(record.index, *record.laser_angle_rad);
-      options.exclude_candidate = sweep_filter->Predicate();
-      options.exclude_candidate_on_restore = sweep_filter->Predicate(/*strict=*/true);
-      options.keep_candidates = true;
-    }
-    laser::Detection detection =
-        laser::DetectLaserLine(image, laser::LayoutFor(camera.bayer, image.channels()), options);
-    if (sweeping) {
-      sweep_filter->End(detection.candidates);
-      detection.candidates = {};
-    }
-    return detection;
-  };
-  if (job.sweep_filter) {
-    laser::SweepFilterOptions sweep;
-    sweep.scan_rows = detector.scan_rows;
-    sweep.focal_px = detector.scan_rows ? camera.intrinsics[0] : camera.intrinsics[1];
-    sweep_filter.emplace(sweep);
-    // The first frames have no earlier frame the sheet has turned far
-    // enough from: remember the candidates of the first later frame that
-    // is (a fraction of a second ahead, the platform has hardly moved), so
-    // that a stripe is recognised from the first frame on. Interleaved
-    // scans need no such help (their difference images hold no stripe).
-    const bool interleaved = !frames.empty() && frames.front().laser_on.has_value();
-    if (!interleaved && !frames.empty() && frames.front().laser_angle_rad) {
-      const double start = *frames.front().laser_angle_rad;
-      for (size_t k = 1; k < frames.size() && k <= size_t(sweep.max_lag_frames); ++k) {
-        if (!frames[k].laser_angle_rad ||
-            sweep.focal_px * std::abs(*frames[k].laser_angle_rad - start) <
-                2.0 * sweep.min_expected_shift_px) {
-          continue;
-        }
-        const cv::Mat ahead = ReadImage(job.dataset / frames[k].file);
-        if (ahead.cols != camera.width || ahead.rows != camera.height) break;  // reported later
-        detect_line(ahead, frames[k]);  // remembered by the filter
-        break;
-      }
-    }
-  }
+  report.scan_lines = line_stage.ScanLines();
   report.sequence_duration_s =
       frames.size() > 1
           ? frames.back().timestamp_s - frames.front().timestamp_s +
                 (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
           : 0.0;
-  ProgressBar progress("reconstruct", static_cast<long>(frames.size()), !job.quiet);
+  long total_frames = static_cast<long>(frames.size());
+  for (const auto& other : others) {
+    total_frames += static_cast<long>(ReadFrames(other.folder, job.max_frames).size());
+  }
+  ProgressBar progress("reconstruct", total_frames, !job.quiet);
+  long frames_done = 0;
+  std::optional<Rigid3d> first_pose;
+  std::vector<StampedPose> placed_poses;  // the main camera's, in time order
+  // A profile into both clouds: placed with its pose, and with the first.
+  const auto add_profile = [&](const laser::Profile& profile, int frame, const Rigid3d& pose,
+                               const Rigid3d& unmoved) {
+    const Rigid3d& placed = job.motion_compensation ? pose : unmoved;
+    for (const auto& p : profile.points) {
+      CloudPoint point;
+      point.intensity = p.strength;
+      point.red = point.green = point.blue = ToByte(p.strength * 4.0f);
+      point.frame = frame;
+      point.position = placed * p.point_in_camera;
+      cloud.Add(point);
+      point.position = unmoved * p.point_in_camera;
+      uncompensated.Add(point);
+    }
+    report.points += static_cast<long>(profile.points.size());
+    report.points_uncompensated += static_cast<long>(profile.points.size());
+  };
   // Profiles wait here until the provider reports their frame's pose.
   struct Pending {
     double timestamp_s;
     laser::Profile profile;
   };
   std::map<int, Pending> pending;
-  std::optional<Rigid3d> first_pose;
   int frames_placed = 0;
   const auto place = [&](const std::vector<fusion::PoseUpdate>& updates) {
     for (const auto& update : updates) {
@@ -233,83 +429,22 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
       if (it == pending.end()) continue;
       if (!first_pose) first_pose = update.world_from_camera;
       trajectory.Add({it->second.timestamp_s, update.world_from_camera});
+      placed_poses.push_back({it->second.timestamp_s, update.world_from_camera});
       ++frames_placed;
-      const Rigid3d& placed = job.motion_compensation ? update.world_from_camera : *first_pose;
-      for (const auto& p : it->second.profile.points) {
-        CloudPoint point;
-        point.intensity = p.strength;
-        point.red = point.green = point.blue = ToByte(p.strength * 4.0f);
-        point.frame = update.frame;
-        point.position = placed * p.point_in_camera;
-        cloud.Add(point);
-        point.position = *first_pose * p.point_in_camera;
-        uncompensated.Add(point);
-      }
-      report.points += static_cast<long>(it->second.profile.points.size());
-      report.points_uncompensated += static_cast<long>(it->second.profile.points.size());
+      add_profile(it->second.profile, update.frame, update.world_from_camera, *first_pose);
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
-  // The next frame is read and decoded on a second thread while this one is
-  // processed (a live camera delivers decoded frames; PNG decoding of a
-  // dataset would otherwise take a third of the time).
-  const auto read = [&](size_t i) { return ReadImage(job.dataset / frames[i].file); };
-  std::future<cv::Mat> next_image;
-  cv::Mat dark_image;  // the last laser-off frame of an interleaved scan
-  size_t dark_frame = 0;
-  if (!frames.empty()) next_image = std::async(std::launch::async, read, size_t{0});
+  FrameReader reader(job.dataset, frames);
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     auto t = std::chrono::steady_clock::now();
-    const cv::Mat image = next_image.get();  // rethrows a read error
-    if (i + 1 < frames.size()) next_image = std::async(std::launch::async, read, i + 1);
-    UWS_CHECK(image.cols == camera.width && image.rows == camera.height,
-              (job.dataset / record.file).string(), ": image is ", image.cols, "x", image.rows,
-              " but camera '", camera.name, "' is ", camera.width, "x", camera.height);
+    const cv::Mat image = reader.Get(i);
     report.seconds_io += Seconds(t);
 
-    t = std::chrono::steady_clock::now();
-    // Interleaved scans (frames.csv laser_on, thesis §5.4): nothing to detect
-    // with the laser off; with it on, the line is found in the difference to
-    // the previous (laser-off) frame, where the scene's own texture, a
-    // painted stripe or the ambient light cancel.
-    const bool laser_off = record.laser_on && !*record.laser_on;
-    const bool difference = job.detect_on_difference && record.laser_on && !laser_off;
     laser::Detection detection;
-    if (difference && (i == 0 || dark_image.empty() || dark_frame != i - 1)) {
-      // No laser-off frame just before (the first frame): the line is not
-      // looked for in the raw image, where the scene could pass for it.
-    } else if (!laser_off) {
-      if (difference) {
-        cv::Mat lit_only;
-        cv::subtract(image, dark_image, lit_only);  // saturates at 0
-        detection = detect_line(lit_only, record);
-        ++report.frames_on_difference;
-      } else {
-        detection = detect_line(image, record);
-      }
-      report.static_detections_removed += detection.stats.excluded_candidates;
-      report.albedo_edge_points += detection.stats.albedo_edge_points;
-      // Noise and texture peaks are ignored now and then on any scene; a
-      // stripe or reflection shows on many scan lines of a frame.
-      report.frames_with_static_detections +=
-          detection.stats.excluded_candidates >= 0.05 * report.scan_lines;
-      report.frames_sweep_filter_restored += detection.stats.exclusion_restored;
-    } else {
-      ++report.frames_laser_off;
-      dark_image = image;
-      dark_frame = i;
-    }
-    const std::vector<laser::LaserPoint>& line_points = detection.points;
-    report.seconds_detect += Seconds(t);
-
-    t = std::chrono::steady_clock::now();
-    const double angle = record.laser_angle_rad.value_or(0.0);
-    laser::Profile profile = laser::TriangulateProfile(
-        camera, laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle), line_points,
-        record.index);
-    report.triangulation_failures += profile.failed;
-    report.seconds_triangulate += Seconds(t);
+    laser::Profile profile;
+    line_stage.Process(i, image, &detection, &profile);
 
     t = std::chrono::steady_clock::now();
     fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
@@ -322,12 +457,12 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     pending.emplace(record.index, Pending{record.timestamp_s, std::move(profile)});
     place(updates);
     report.seconds_io += Seconds(t);
-    progress.Update(static_cast<long>(i + 1));
+    progress.Update(++frames_done);
   }
   place(provider->Finish());
   report.frames_without_pose = report.frames - frames_placed;
-  progress.Finish();
   if (!first_pose) {
+    progress.Finish();
     report.pose_details = provider->Details();
     std::string why;
     for (const std::string& warning : report.Warnings()) why += "\n  " + warning;
@@ -337,6 +472,48 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                   : "",
               why);
   }
+
+  // Further cameras (each with its own laser, §6.5): their profiles are
+  // placed with the main camera's trajectory, interpolated to their
+  // timestamps, and the rig's extrinsics.
+  const double frame_interval =
+      frames.size() > 1
+          ? (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
+          : 0.0;
+  for (const OtherCamera& other : others) {
+    const Camera& other_camera = other.rig.cameras.front();
+    const auto other_frames = ReadFrames(other.folder, job.max_frames);
+    LineStage other_stage(job, other.folder, other_camera, other.rig.lasers.front(),
+                          other.rig.CameraFromLaser(0, 0), other_frames, &report);
+    TumWriter other_trajectory(job.out / ("trajectory_" + other_camera.name + ".tum"));
+    CameraReport camera_report{other_camera.name, other.rig.lasers.front().name};
+    FrameReader other_reader(other.folder, other_frames);
+    for (size_t i = 0; i < other_frames.size(); ++i) {
+      const FrameRecord& record = other_frames[i];
+      auto t = std::chrono::steady_clock::now();
+      const cv::Mat image = other_reader.Get(i);
+      report.seconds_io += Seconds(t);
+      laser::Detection detection;
+      laser::Profile profile;
+      other_stage.Process(i, image, &detection, &profile);
+      ++camera_report.frames;
+      if (!detection.points.empty()) ++camera_report.frames_with_line;
+      const auto main_pose = fusion::InterpolatePose(placed_poses, record.timestamp_s,
+                                                     1.5 * frame_interval);
+      if (main_pose) {
+        const Rigid3d pose = *main_pose * other.main_from_camera;
+        other_trajectory.Add({record.timestamp_s, pose});
+        add_profile(profile, record.index, pose, *first_pose * other.main_from_camera);
+        camera_report.points += static_cast<long>(profile.points.size());
+      } else {
+        ++camera_report.frames_without_pose;
+      }
+      progress.Update(++frames_done);
+    }
+    other_trajectory.Commit();
+    report.other_cameras.push_back(camera_report);
+  }
+  progress.Finish();
   report.pose_details = provider->Details();
   cloud.Close();
   uncompensated.Close();

@@ -34,9 +34,23 @@ struct ReconstructJob {
   // Interleaved datasets (frames.csv laser_on): detect the line in the
   // difference of each laser-on frame and the laser-off frame before it.
   bool detect_on_difference = true;
+  // Several-camera datasets (sim --pods 2): the profiles of the further
+  // cameras (images in DATASET/NAME/) join the cloud, placed with the main
+  // camera's poses through the rig; only without --camera.
+  bool other_cameras = true;
   int max_frames = 0;  // 0: all
   bool quiet = false;
   void Check() const;
+};
+
+// A further camera of the rig whose profiles joined the cloud.
+struct CameraReport {
+  std::string name, laser;
+  int frames = 0;
+  int frames_with_line = 0;
+  int frames_without_pose = 0;  // outside the main camera's trajectory
+  long points = 0;
+  nlohmann::json ToJson() const;
 };
 
 struct ReconstructReport {
@@ -57,6 +71,7 @@ struct ReconstructReport {
   double sequence_duration_s = 0.0;  // from the frame timestamps
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider
+  std::vector<CameraReport> other_cameras;
 
   int scan_lines = 0;  // image rows (or columns) the detector scans: a full profile's points
   double RealTimeFactor() const { return seconds > 0 ? sequence_duration_s / seconds : 0.0; }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <random>
 
+#include "uwscan/io/ply.h"
 #include "uwscan/io/tum.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/sim/simulate.h"
@@ -203,6 +204,68 @@ TEST(ReconstructSweepFilter, StaticCandidatesOfAPaintedStripeAreIgnored) {
   RunReconstruct(job);
   const auto unfiltered = EvaluateReconstruction(job.dataset, job.out);
   EXPECT_GT(unfiltered.compensated.point_error_rms_m, 0.05);
+  fs::remove_all(root);
+}
+
+// The two-pod vehicle of §6.5: camera 1 (images in DATA/cam1/) uses the
+// laser of pod 0 and its profiles join the cloud, placed with camera 0's
+// poses through the rig. They land on the true floor and target, and they
+// reach beyond where camera 0's line sweeps.
+TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
+  const fs::path root = TempFolder("two_pods");
+  sim::ScenarioOptions options;
+  options.width = 480;
+  options.height = 360;
+  options.frames = 20;
+  options.seed = 35;
+  options.pods = 2;
+  sim::SimulateScenario("tank-target", options, root / "data");
+  ASSERT_TRUE(fs::exists(root / "data" / "cam1" / "frames.csv"));
+  ReconstructJob job;
+  job.dataset = root / "data";
+  job.poses_file = job.dataset / "groundtruth.tum";
+  job.quiet = true;
+  job.out = root / "both";
+  const ReconstructReport report = RunReconstruct(job);
+  ASSERT_EQ(report.other_cameras.size(), 1u);
+  const CameraReport& second = report.other_cameras.front();
+  EXPECT_EQ(second.name, "cam1");
+  EXPECT_EQ(second.laser, "laser1");
+  EXPECT_EQ(second.frames, 20);
+  EXPECT_EQ(second.frames_without_pose, 0);
+  EXPECT_GT(second.points, 20 * 100);
+  EXPECT_TRUE(fs::exists(job.out / "trajectory_cam1.tum"));
+
+  // Independently of the evaluation: the true world is the floor (z = 0)
+  // and the target (z = 5 mm) here, the poses being the true ones.
+  double max_x[2] = {-1e9, -1e9};
+  long on_scene[2] = {0, 0}, count[2] = {0, 0};
+  for (const CloudPoint& point : ReadPly(job.out / "cloud.ply")) {
+    const int camera = point.frame >= 20;
+    ++count[camera];
+    const double z = point.position.z();
+    on_scene[camera] += std::min(std::abs(z), std::abs(z - 0.005)) < 0.005;
+    max_x[camera] = std::max(max_x[camera], point.position.x());
+  }
+  EXPECT_EQ(count[1], second.points);
+  EXPECT_GT(on_scene[0], 0.97 * count[0]);
+  EXPECT_GT(on_scene[1], 0.97 * count[1]);
+  EXPECT_GT(max_x[1], max_x[0] + 0.1);
+  const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+  EXPECT_GT(evaluation.compensated.matched, report.points * 95 / 100);
+  EXPECT_LT(evaluation.compensated.point_error_rms_m, 0.002);
+  EXPECT_GT(evaluation.uncompensated.point_error_rms_m,
+            2.0 * evaluation.compensated.point_error_rms_m);
+
+  job.out = root / "main_only";
+  job.other_cameras = false;
+  const ReconstructReport main_only = RunReconstruct(job);
+  EXPECT_TRUE(main_only.other_cameras.empty());
+  EXPECT_EQ(main_only.points, report.points - second.points);
+  // Camera 1 named on the top folder: its images are elsewhere.
+  job.camera_name = "cam1";
+  job.out = root / "wrong_camera";
+  EXPECT_THROW(RunReconstruct(job), Error);
   fs::remove_all(root);
 }
 

@@ -67,6 +67,26 @@ Rigid3d Rig::CameraFromLaser(size_t camera_index, size_t laser_index) const {
   return camera_from_first * lasers[laser_index].camera_from_laser;
 }
 
+Rig Rig::Reordered(size_t first_camera, size_t first_laser) const {
+  UWS_CHECK(first_camera < cameras.size() && first_laser < lasers.size(),
+            "rig index out of range");
+  Rig rig;
+  const auto first_then_others = [](size_t first, size_t count) {
+    std::vector<size_t> order = {first};
+    for (size_t i = 0; i < count; ++i) {
+      if (i != first) order.push_back(i);
+    }
+    return order;
+  };
+  for (size_t c : first_then_others(first_camera, cameras.size())) rig.cameras.push_back(cameras[c]);
+  for (size_t l : first_then_others(first_laser, lasers.size())) {
+    LineProjector laser = lasers[l];
+    laser.camera_from_laser = CameraFromLaser(first_camera, l);
+    rig.lasers.push_back(laser);
+  }
+  return rig;
+}
+
 void Rig::Check(const std::string& context) const {
   UWS_CHECK(!cameras.empty(), context, ": cameras: at least one camera is required");
   std::set<std::string> names;

@@ -59,6 +59,41 @@ void AddThesisScanner(const ScenarioOptions& options, int width, int height, Sim
   config->render.threads = options.threads;
 }
 
+// The second pod of the §6.5 vehicle: pod 0 (camera 0, the LED, laser 1)
+// mirrored across the plane halfway between the pods, 0.79 m to the side.
+// Each camera uses the other pod's laser: the first laser (laser0, in pod
+// 1) is camera 0's; the mirrored one (laser1, in pod 0, 10 cm beside
+// camera 0) is camera 1's. The mirror keeps each camera's view of its line
+// the same, mirrored left to right.
+void AddSecondPod(SimConfig* config) {
+  const Eigen::Matrix3d mirror = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  const auto mirrored = [&](const Rigid3d& pose) {
+    return Rigid3d(Eigen::Quaterniond(mirror * pose.rotation.toRotationMatrix() * mirror),
+                   mirror * pose.translation);
+  };
+  Rig& rig = config->rig;
+  const Rigid3d camera0_from_camera1(Eigen::Quaterniond::Identity(),
+                                     {rig.lasers.front().camera_from_laser.translation.x(), 0.10, 0});
+  Camera camera1 = rig.cameras.front();
+  camera1.name = "cam1";
+  camera1.rig_from_camera = rig.cameras.front().rig_from_camera * camera0_from_camera1;
+  rig.cameras.push_back(camera1);
+  LineProjector laser1 = rig.lasers.front();
+  laser1.name = "laser1";
+  laser1.camera_from_laser = camera0_from_camera1 * mirrored(rig.lasers.front().camera_from_laser);
+  rig.lasers.push_back(laser1);
+  LaserSource source1 = config->lasers.front();
+  source1.rig_laser = 1;
+  config->lasers.push_back(source1);
+  // Two LEDs at half the power light the scene as the one did: the
+  // exposure set for one pod does not saturate the red channel.
+  config->floods.front().power_w *= 0.5;
+  FloodLight led1 = config->floods.front();
+  led1.name += "_pod1";
+  led1.camera_from_light = camera0_from_camera1 * mirrored(led1.camera_from_light);
+  config->floods.push_back(led1);
+}
+
 Scenario TankTarget(const ScenarioOptions& options) {
   Scenario s;
   s.name = "tank-target";
@@ -227,35 +262,62 @@ void ScenarioOptions::Check() const {
       "--marine-snow must be in [0, 10000] particles per m^3 (got ", marine_snow_per_m3, ")");
   UWS_CHECK(std::isfinite(painted_stripe_m) && painted_stripe_m >= 0 && painted_stripe_m <= 0.5,
             "--painted-stripe must be in [0, 0.5] m (got ", painted_stripe_m, ")");
+  UWS_CHECK(pods == 1 || pods == 2, "--pods must be 1 or 2 (got ", pods, ")");
+  UWS_CHECK(pods == 1 || !laser_interleave, "--pods 2: the pods' lasers are paired, not interleaved");
   UWS_CHECK(painted_stripe_colour == "white" || painted_stripe_colour == "yellow" ||
                 painted_stripe_colour == "green",
             "--stripe-colour must be white, yellow or green (got '", painted_stripe_colour, "')");
 }
 
-double Scenario::ServoAngle(int frame) const {
+double Scenario::ServoAngle(double frame) const {
   if (frames <= 1) return servo_start_rad;
   return servo_start_rad + (servo_end_rad - servo_start_rad) * frame / (frames - 1);
 }
 
-FrameState Scenario::FrameAt(const Trajectory& trajectory, int frame) const {
+FrameState Scenario::FrameAt(const Trajectory& trajectory, int frame, size_t camera) const {
+  UWS_CHECK(camera < Cameras(), "scenario ", name, ": no camera ", camera);
+  const Rigid3d camera0_from_camera =
+      config.rig.cameras.front().rig_from_camera.Inverse() *
+      config.rig.cameras[camera].rig_from_camera;
+  const double time = TimeOf(frame, camera);
   FrameState state;
-  state.world_from_camera = views.empty() ? trajectory.WorldFromCamera(TimeOf(frame))
-                                          : views.at(static_cast<size_t>(frame));
-  state.laser_angles_rad.assign(config.lasers.size(), 0.0);
-  for (size_t i = 0; i < config.lasers.size(); ++i) {
-    if (config.lasers[i].servo) state.laser_angles_rad[i] = ServoAngle(frame);
+  state.world_from_camera = (views.empty() ? trajectory.WorldFromCamera(time)
+                                           : views.at(static_cast<size_t>(frame))) *
+                            camera0_from_camera;
+  // Camera k renders with its own laser source only (CameraConfig).
+  const size_t sources = Cameras() > 1 ? 1 : config.lasers.size();
+  state.laser_angles_rad.assign(sources, 0.0);
+  for (size_t i = 0; i < sources; ++i) {
+    const size_t source = Cameras() > 1 ? camera : i;
+    if (config.lasers.at(source).servo) state.laser_angles_rad[i] = ServoAngle(time * frame_rate_hz);
   }
   state.lasers_on = !laser_interleave || frame % 2 == 0;
-  state.noise_seed = StreamSeed(seed, 0xF4A3E, static_cast<uint64_t>(frame));
+  state.noise_seed = camera == 0 ? StreamSeed(seed, 0xF4A3E, static_cast<uint64_t>(frame))
+                                 : StreamSeed(seed, 0xF4A3E + camera, static_cast<uint64_t>(frame));
   if (motion_blur_samples > 1 && views.empty()) {
     // Exposure centred on the frame time.
     const double exposure = config.sensor.exposure_s;
     for (int k = 0; k < motion_blur_samples; ++k) {
-      const double t = TimeOf(frame) + exposure * ((k + 0.5) / motion_blur_samples - 0.5);
-      state.exposure_poses.push_back(trajectory.WorldFromCamera(t));
+      const double t = time + exposure * ((k + 0.5) / motion_blur_samples - 0.5);
+      state.exposure_poses.push_back(trajectory.WorldFromCamera(t) * camera0_from_camera);
     }
   }
   return state;
+}
+
+SimConfig Scenario::CameraConfig(size_t camera) const {
+  UWS_CHECK(camera < Cameras(), "scenario ", name, ": no camera ", camera);
+  if (Cameras() == 1) return config;
+  SimConfig view = config;
+  view.rig = config.rig.Reordered(camera, camera);
+  view.lasers = {config.lasers.at(camera)};
+  view.lasers.front().rig_laser = 0;
+  const Rigid3d camera_from_camera0 = config.rig.cameras[camera].rig_from_camera.Inverse() *
+                                      config.rig.cameras.front().rig_from_camera;
+  for (FloodLight& flood : view.floods) {
+    flood.camera_from_light = camera_from_camera0 * flood.camera_from_light;
+  }
+  return view;
 }
 
 Camera ThesisCamera(int width, int height) {
@@ -299,6 +361,11 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
   scenario.seed = options.seed;
   scenario.motion_blur_samples = options.motion_blur_samples;
   scenario.laser_interleave = options.laser_interleave;
+  if (options.pods == 2) {
+    UWS_CHECK(name == "tank-target" || name == "hull",
+              "--pods 2: only tank-target and hull have the two-pod vehicle (got ", name, ")");
+    AddSecondPod(&scenario.config);
+  }
   scenario.config.render.supersample = options.supersample;
   for (auto& set : scenario.calibration) set.config.render.supersample = options.supersample;
   scenario.config.snow.per_m3 = options.marine_snow_per_m3;

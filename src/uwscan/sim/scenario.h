@@ -47,6 +47,10 @@ struct ScenarioOptions {
   // Lasers on in even frames only (thesis §5.4: detection on the difference
   // of consecutive on and off frames, features tracked without the line).
   bool laser_interleave = false;
+  // tank-target, hull: 1, or 2 pods as on the §6.5 vehicle (each a camera
+  // and a steerable laser, 0.8 m apart; each camera uses the other pod's
+  // laser, the pulses paired so that it sees that line only).
+  int pods = 1;
 
   void Check() const;  // throws uwscan::Error naming the option
 };
@@ -78,10 +82,20 @@ struct Scenario {
   // refracted sheet (informational, written as a comment in scene.yaml).
   double laser_tilt_rad = 0.0, laser_port_fit_rms_m = 0.0;
 
-  double TimeOf(int frame) const { return frame / frame_rate_hz; }
-  double ServoAngle(int frame) const;
-  // The frame's pose, servo angles and noise seed.
-  FrameState FrameAt(const Trajectory& trajectory, int frame) const;
+  // Several cameras (pods): camera k uses rig laser k and exposes k / n of
+  // a frame interval after camera 0, while only its laser is on. The
+  // trajectory is camera 0's; the others follow through the rig.
+  size_t Cameras() const { return config.rig.cameras.size(); }
+  double TimeOf(int frame, size_t camera = 0) const {
+    return (frame + static_cast<double>(camera) / Cameras()) / frame_rate_hz;
+  }
+  double ServoAngle(double frame) const;
+  // The frame's pose, servo angles and noise seed, for camera `camera`.
+  FrameState FrameAt(const Trajectory& trajectory, int frame, size_t camera = 0) const;
+  // What camera `camera` renders: the rig with it first (and its laser
+  // first), its laser source only, the lights seen from it. With one camera,
+  // the configuration itself.
+  SimConfig CameraConfig(size_t camera) const;
 };
 
 // Throws uwscan::UsageError for an unknown name, uwscan::Error for bad options.

@@ -303,5 +303,81 @@ TEST(ScenarioTest, InterleavedLasersAreOffInOddFrames) {
             std::string::npos);
 }
 
+// Two pods (§6.5): camera 1 sits 0.79 m beside camera 0, exposes half a
+// frame later with only its partner laser (laser1, in pod 0) on, and sees
+// that line where the laser1 sheet meets the floor; laser0's line is not in
+// its image. The rig it writes lists it and its laser first.
+TEST(ScenarioTest, TwoPodsEachCameraSeesTheOtherPodsLine) {
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.frames = 5;
+  options.output = OutputFormat::kRgb;
+  options.pods = 2;
+  const Scenario scenario = MakeScenario("tank-target", options);
+  ASSERT_EQ(scenario.Cameras(), 2u);
+  ASSERT_EQ(scenario.config.rig.lasers.size(), 2u);
+  const Trajectory trajectory(scenario.motion);
+  const Rig& rig = scenario.config.rig;
+  const Rigid3d camera0_from_camera1 =
+      rig.cameras[0].rig_from_camera.Inverse() * rig.cameras[1].rig_from_camera;
+  EXPECT_NEAR(camera0_from_camera1.translation.norm(), 0.80, 0.01);
+  const FrameState state = scenario.FrameAt(trajectory, 2, 1);
+  const Rigid3d expected =
+      trajectory.WorldFromCamera(2.5 / scenario.frame_rate_hz) * camera0_from_camera1;
+  EXPECT_LT((state.world_from_camera.translation - expected.translation).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(state.laser_angles_rad.at(0), scenario.ServoAngle(2.5));
+
+  const SimConfig seen = scenario.CameraConfig(1);
+  EXPECT_EQ(seen.rig.cameras.front().name, "cam1");
+  EXPECT_EQ(seen.rig.lasers.front().name, "laser1");
+  ASSERT_EQ(seen.lasers.size(), 1u);
+  const Renderer renderer(seen);
+  const auto truth = renderer.LaserGroundTruth(state);
+  ASSERT_GT(truth.size(), 100u);
+  const Rigid3d laser_from_camera = renderer.CameraFromLaser(0, state.laser_angles_rad[0]).Inverse();
+  const cv::Mat image = renderer.Render(state).image;
+  int bright = 0;
+  for (const LaserPoint& point : truth) {
+    // On the floor (z = 0) or the board (5 mm above it) ...
+    const Eigen::Vector3d world = state.world_from_camera * point.point_in_camera;
+    EXPECT_LT(std::min(std::abs(world.z()), std::abs(world.z() - 0.005)), 1e-6);
+    // ... and on laser1's sheet, seen from camera 1.
+    const auto residual = seen.rig.lasers.front().SheetResidual(
+        seen.rig.lasers.front().camera_from_laser *
+        (laser_from_camera * point.point_in_camera));
+    ASSERT_TRUE(residual.has_value());
+    EXPECT_LT(std::abs(*residual), 1e-6);
+    const cv::Vec3b bgr = image.at<cv::Vec3b>(static_cast<int>(std::lround(point.pixel.y())),
+                                              static_cast<int>(std::lround(point.pixel.x())));
+    bright += bgr[1] > 150;  // the red LED adds little to green
+  }
+  EXPECT_GT(bright, 0.8 * truth.size());
+  // Where camera 0's laser would draw its line in camera 1's image, nothing.
+  SimConfig both = seen;
+  both.lasers.push_back(seen.lasers.front());
+  both.lasers.back().rig_laser = 1;  // laser0
+  FrameState both_state = state;
+  both_state.laser_angles_rad.push_back(state.laser_angles_rad[0]);
+  const auto laser0_line = Renderer(both).LaserGroundTruth(both_state);
+  int other_line = 0, other_points = 0;
+  for (const LaserPoint& point : laser0_line) {
+    if (point.laser != 1) continue;
+    ++other_points;
+    const cv::Vec3b bgr = image.at<cv::Vec3b>(static_cast<int>(std::lround(point.pixel.y())),
+                                              static_cast<int>(std::lround(point.pixel.x())));
+    other_line += bgr[1] > 150;
+  }
+  ASSERT_GT(other_points, 50);
+  EXPECT_LT(other_line, 0.05 * other_points);
+
+  options.laser_interleave = true;
+  EXPECT_THROW(MakeScenario("tank-target", options), Error);
+  options.laser_interleave = false;
+  EXPECT_THROW(MakeScenario("seabed-transect", options), Error);
+  options.pods = 3;
+  EXPECT_THROW(MakeScenario("tank-target", options), Error);
+}
+
 }  // namespace
 }  // namespace uwscan::sim

@@ -63,6 +63,55 @@ void WriteCalibrationSet(const CalibrationSet& set, const fs::path& folder, Prog
   truth.Commit();
 }
 
+// The images and ground truth of one camera: frames/ + frames.csv,
+// groundtruth.tum, laser_gt.csv and the INS log, all of this camera. Frame
+// indices run on from camera to camera, so that they name a frame of the
+// whole dataset (and a point of the merged cloud) uniquely.
+void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& folder,
+                   ProgressBar* progress, long* done, SimulateResult* result) {
+  const Renderer renderer(scenario.CameraConfig(camera));
+  const Trajectory trajectory(scenario.motion);
+  const bool with_angle = !renderer.config().lasers.empty();
+  FramesCsvWriter frames(folder / "frames.csv", with_angle, scenario.laser_interleave);
+  TumWriter truth(folder / "groundtruth.tum");
+  LaserTruthWriter laser_truth(folder / "laser_gt.csv");
+  const int first_index = static_cast<int>(camera) * scenario.frames;
+  for (int i = 0; i < scenario.frames; ++i) {
+    const FrameState state = scenario.FrameAt(trajectory, i, camera);
+    const RenderedFrame frame = renderer.Render(state);
+    const std::string file = FrameFileName(i);
+    WritePng(folder / file, frame.image);
+    std::optional<double> angle;
+    if (with_angle) angle = state.laser_angles_rad.front();
+    const int index = first_index + i;
+    const double time = scenario.TimeOf(i, camera);
+    frames.Add({index, time, file, angle, state.lasers_on});
+    truth.Add({time, state.world_from_camera});
+    for (const LaserPoint& point : renderer.LaserGroundTruth(state)) {
+      laser_truth.Add({index, point.laser, point.pixel.x(), point.pixel.y(),
+                       point.point_in_camera.x(), point.point_in_camera.y(),
+                       point.point_in_camera.z()});
+      ++result->laser_points;
+    }
+    progress->Update(++*done);
+  }
+  frames.Commit();
+  truth.Commit();
+  laser_truth.Commit();
+  // What the vehicle's navigation would have logged (thesis §6.5), for
+  // `uwscan reconstruct --poses ins.tum`: the same INS for every camera,
+  // carried over through the rig.
+  InsOptions ins;
+  ins.seed = scenario.seed + 1000;
+  const Rigid3d camera0_from_camera =
+      scenario.config.rig.cameras.front().rig_from_camera.Inverse() *
+      scenario.config.rig.cameras[camera].rig_from_camera;
+  std::vector<StampedPose> log =
+      SimulateIns(trajectory, 0.0, scenario.TimeOf(std::max(0, scenario.frames - 1)), ins);
+  for (StampedPose& pose : log) pose.world_from_camera = pose.world_from_camera * camera0_from_camera;
+  WriteTum(folder / "ins.tum", log);
+}
+
 }  // namespace
 
 SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, bool show_progress) {
@@ -83,45 +132,26 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
   WriteRigYaml(temp_dir / "rig.yaml", scenario.config.rig);
   WriteSceneYaml(temp_dir / "scene.yaml", scenario);
 
-  long total = scenario.frames;
+  long total = static_cast<long>(scenario.frames * scenario.Cameras());
   for (const auto& set : scenario.calibration) total += static_cast<long>(set.views.size());
   ProgressBar progress("simulate " + scenario.name, total, show_progress);
   long done = 0;
 
   SimulateResult result;
-  {
-    const Renderer renderer(scenario.config);
-    const Trajectory trajectory(scenario.motion);
-    const bool with_angle = !scenario.config.lasers.empty();
-    FramesCsvWriter frames(temp_dir / "frames.csv", with_angle, scenario.laser_interleave);
-    TumWriter truth(temp_dir / "groundtruth.tum");
-    LaserTruthWriter laser_truth(temp_dir / "laser_gt.csv");
-    for (int i = 0; i < scenario.frames; ++i) {
-      const FrameState state = scenario.FrameAt(trajectory, i);
-      const RenderedFrame frame = renderer.Render(state);
-      const std::string file = FrameFileName(i);
-      WritePng(temp_dir / file, frame.image);
-      std::optional<double> angle;
-      if (with_angle) angle = state.laser_angles_rad.front();
-      frames.Add({i, scenario.TimeOf(i), file, angle, state.lasers_on});
-      truth.Add({scenario.TimeOf(i), state.world_from_camera});
-      for (const LaserPoint& point : renderer.LaserGroundTruth(state)) {
-        laser_truth.Add({i, point.laser, point.pixel.x(), point.pixel.y(),
-                         point.point_in_camera.x(), point.point_in_camera.y(),
-                         point.point_in_camera.z()});
-        ++result.laser_points;
-      }
-      progress.Update(++done);
+  for (size_t camera = 0; camera < scenario.Cameras(); ++camera) {
+    fs::path folder = temp_dir;
+    if (camera > 0) {
+      // Every further camera: a dataset of its own in a subfolder named
+      // after it, its rig listing it (and its laser) first.
+      const Rig rig = scenario.config.rig.Reordered(camera, camera);
+      folder /= rig.cameras.front().name;
+      CreateFolder(folder / "frames");
+      WriteRigYaml(folder / "rig.yaml", rig);
+      Scenario seen = scenario;
+      seen.config = scenario.CameraConfig(camera);
+      WriteSceneYaml(folder / "scene.yaml", seen);
     }
-    frames.Commit();
-    truth.Commit();
-    laser_truth.Commit();
-    // What the vehicle's navigation would have logged (thesis §6.5), for
-    // `uwscan reconstruct --poses ins.tum`.
-    InsOptions ins;
-    ins.seed = scenario.seed + 1000;
-    WriteTum(temp_dir / "ins.tum",
-             SimulateIns(trajectory, 0.0, scenario.TimeOf(std::max(0, scenario.frames - 1)), ins));
+    WriteSequence(scenario, camera, folder, &progress, &done, &result);
   }
   for (const auto& set : scenario.calibration) {
     WriteCalibrationSet(set, temp_dir / "calib" / set.name, &progress, &done);
@@ -132,7 +162,7 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
   fs::rename(temp_dir, final_dir, error);
   UWS_CHECK(!error, final_dir.string(), ": cannot move the dataset into place: ", error.message());
   guard.Release();
-  result.frames = scenario.frames;
+  result.frames = static_cast<int>(scenario.frames * scenario.Cameras());
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
