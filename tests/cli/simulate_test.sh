@@ -58,6 +58,26 @@ expect_status 0 "laser-tilt" "$uwscan" simulate laser-tilt --out "$work/lt" --fr
   --height 72 --laser-tilt-deg 8 --quiet
 [ -s "$work/lt/calib/laser/frames/000005.png" ] || fail "laser-tilt: calib/laser"
 
+# Two pods: cam1's images in a dataset of its own, its rig listing it first;
+# reconstruct takes both cameras (or the first only).
+expect_status 0 "two pods" "$uwscan" simulate tank-target --out "$work/pods" --pods 2 --frames 3 \
+  --width 160 --height 120 --quiet
+for f in cam1/rig.yaml cam1/frames.csv cam1/frames/000002.png cam1/groundtruth.tum cam1/laser_gt.csv; do
+  [ -s "$work/pods/$f" ] || fail "two pods: missing $f"
+done
+[ "$(sed -n 2p "$work/pods/cam1/frames.csv" | cut -d, -f1)" = "3" ] || fail "two pods: cam1 frame indices"
+grep -A1 "^cameras:" "$work/pods/cam1/rig.yaml" | grep -q "name: cam1" || fail "two pods: cam1 not first"
+expect_status 0 "two pods reconstruct" "$uwscan" reconstruct --dataset "$work/pods" --out "$work/pods.out" \
+  --poses "$work/pods/groundtruth.tum"
+grep -q "camera cam1 with laser1: 3 frames" "$work/err" || fail "two pods: no cam1 summary"
+[ -s "$work/pods.out/trajectory_cam1.tum" ] || fail "two pods: trajectory_cam1.tum"
+expect_status 0 "two pods, first camera" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.first" --poses "$work/pods/groundtruth.tum" --main-camera-only --quiet
+[ ! -e "$work/pods.first/trajectory_cam1.tum" ] || fail "--main-camera-only wrote cam1"
+expect_status 1 "two pods, cam1 on the top folder" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.cam1" --poses "$work/pods/groundtruth.tum" --camera cam1 --quiet
+grep -q "pods/cam1" "$work/err" || fail "two pods: --camera cam1 error does not say where"
+
 # Usage errors: exit 2.
 expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"
 expect_status 2 "zero frames" "$uwscan" simulate tank-target --out "$work/e2" --frames 0
@@ -68,7 +88,9 @@ expect_status 2 "width without height" "$uwscan" simulate tank-target --out "$wo
 expect_status 2 "missing --out" "$uwscan" simulate tank-target
 expect_status 2 "negative snow" "$uwscan" simulate tank-target --out "$work/e8" --marine-snow=-1
 expect_status 2 "laser tilt out of range" "$uwscan" simulate laser-tilt --out "$work/e7" --laser-tilt-deg 45
-for e in e1 e2 e3 e4 e5 e6 e7 e8; do [ ! -e "$work/$e" ] || fail "$e was created"; done
+expect_status 2 "three pods" "$uwscan" simulate tank-target --out "$work/e9" --pods 3
+expect_status 2 "pods on the transect" "$uwscan" simulate seabed-transect --out "$work/e10" --pods 2
+for e in e1 e2 e3 e4 e5 e6 e7 e8 e9 e10; do [ ! -e "$work/$e" ] || fail "$e was created"; done
 grep -q "unknown scenario 'no-such'" <("$uwscan" simulate no-such --out "$work/e1" 2>&1) ||
   fail "unknown scenario message"
 

@@ -362,8 +362,10 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
   scenario.motion_blur_samples = options.motion_blur_samples;
   scenario.laser_interleave = options.laser_interleave;
   if (options.pods == 2) {
-    UWS_CHECK(name == "tank-target" || name == "hull",
-              "--pods 2: only tank-target and hull have the two-pod vehicle (got ", name, ")");
+    if (name != "tank-target" && name != "hull") {
+      throw UsageError("--pods 2: only tank-target and hull have the two-pod vehicle (got " +
+                       name + ")");
+    }
     AddSecondPod(&scenario.config);
   }
   scenario.config.render.supersample = options.supersample;
