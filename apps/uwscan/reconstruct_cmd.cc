@@ -36,8 +36,9 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--laser", job->laser_name, "laser name (default: the first)");
   cmd->add_option("--max-frames", job->max_frames, "process only the first N frames");
   cmd->add_flag("--keep-static-detections", *keep_static,
-                "servo scans: keep line detections that stay put while the laser sweeps "
-                "(removed by default: a painted stripe or reflection, thesis §5.5)");
+                "keep line candidates that behave like scene texture (removed by default, "
+                "thesis §5.5: on servo scans those that stay put while the laser sweeps, with a "
+                "fixed laser those that move with the scene; a painted stripe or reflection)");
   cmd->add_flag("--keep-albedo-edges", *keep_albedo_edges,
                 "keep line points on an albedo edge (dropped by default: the edge pulls the "
                 "sub-pixel fit towards its bright side; judged in the flood-lit colour channel)");
@@ -61,7 +62,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->out = *out;
     if (!poses->empty()) job->poses_file = *poses;
     job->motion_compensation = !*no_compensation;
-    job->sweep_filter = !*keep_static;
+    job->texture_filter = !*keep_static;
     job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
     job->other_cameras = !*main_camera_only;

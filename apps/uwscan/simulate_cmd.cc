@@ -100,7 +100,8 @@ void RegisterSimulateCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--painted-stripe", args->painted_stripe,
                   "tank-target: width (m) of a painted stripe on the floor beside the target, "
-                  "parallel to the laser line (0 = none)")
+                  "parallel to the laser line; seabed-transect: stripes across the track every "
+                  "2 m (0 = none)")
       ->capture_default_str();
   cmd->add_option("--stripe-colour", args->stripe_colour, "white | yellow | green")
       ->capture_default_str();

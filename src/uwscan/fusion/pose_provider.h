@@ -42,6 +42,10 @@ class PoseProvider {
   virtual std::string Name() const = 0;
   // Statistics for report.json.
   virtual nlohmann::json Details() const { return nlohmann::json::object(); }
+  // Raw poses estimated by the last Add, before any smoothing or delay (for
+  // predictions such as the laser motion filter's; the poses that place the
+  // profiles are those Add and Finish return).
+  virtual std::vector<PoseUpdate> Preliminary() const { return {}; }
 };
 
 // Poses from a TUM trajectory, interpolated at the frame's timestamp

@@ -118,11 +118,13 @@ void SelfReferencedPoseProvider::ChooseTrackedImage(const cv::Mat& frame) {
 
 void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, double timestamp_s,
                                       std::vector<PoseUpdate>* out) {
+  if (raw) preliminary_.push_back(*raw);
   const auto final_poses = raw ? smoother_->Add(*raw, timestamp_s) : smoother_->Flush();
   out->insert(out->end(), final_poses.begin(), final_poses.end());
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame) {
+  preliminary_.clear();
   if (frames_ == 0) ChooseTrackedImage(frame.image);
   ++frames_;
   Held held;

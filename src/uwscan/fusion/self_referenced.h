@@ -57,6 +57,7 @@ class SelfReferencedPoseProvider : public PoseProvider {
   std::vector<PoseUpdate> Finish() override;
   std::string Name() const override { return "self-referenced visual odometry"; }
   nlohmann::json Details() const override;
+  std::vector<PoseUpdate> Preliminary() const override { return preliminary_; }
 
   // The image the odometry tracks: the LED's colour channel of a raw Bayer
   // or colour frame (not the laser's), else the frame itself.
@@ -96,6 +97,7 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // Raw poses through the smoother; a gap flushes it.
   void Emit(const std::optional<PoseUpdate>& raw, double timestamp_s, std::vector<PoseUpdate>* out);
   std::unique_ptr<PoseSmoother> smoother_;
+  std::vector<PoseUpdate> preliminary_;  // raw poses of the last Add
 
   Camera camera_;
   Camera tracking_camera_;  // camera_ scaled to the tracked image

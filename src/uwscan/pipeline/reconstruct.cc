@@ -14,6 +14,7 @@
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
 #include "uwscan/laser/profile.h"
+#include "uwscan/laser/motion_filter.h"
 #include "uwscan/laser/sweep_filter.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/atomic_file.h"
@@ -97,8 +98,9 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   }
   if (frames_with_static_detections > 0) {
     warnings.push_back("in " + std::to_string(frames_with_static_detections) +
-                       " frame(s) line candidates on 5 % or more of the scan lines stayed put "
-                       "while the laser swept (a stripe or a reflection in the scene that could "
+                       " frame(s) line candidates on 5 % or more of the scan lines behaved like "
+                       "scene texture (stayed put while the laser swept, or moved with the scene "
+                       "under a fixed laser: a stripe or a reflection in the scene that could "
                        "be taken for the line, or a surface the sheet grazes): ignored, " +
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
@@ -169,7 +171,24 @@ class LineStage {
     detector_.albedo_channel =
         job.drop_albedo_edges ? laser::AlbedoChannelFor(detector_.laser_channel) : -1;
     detector_.make_mask = true;
-    if (job.sweep_filter) StartSweepFilter();
+    if (job.texture_filter) {
+      const bool servo = std::any_of(frames.begin(), frames.end(), [&](const FrameRecord& f) {
+        return f.laser_angle_rad && frames.front().laser_angle_rad &&
+               std::abs(*f.laser_angle_rad - *frames.front().laser_angle_rad) > 1e-6;
+      });
+      if (servo) {
+        StartSweepFilter();
+      } else {
+        laser::MotionFilterOptions motion;
+        motion.scan_rows = detector_.scan_rows;
+        motion_filter_.emplace(camera, motion);
+      }
+    }
+  }
+
+  // The pose of a frame, once known (the motion filter predicts from them).
+  void SetPose(int frame, const Rigid3d& world_from_camera) {
+    if (motion_filter_) motion_filter_->SetPose(frame, world_from_camera);
   }
 
   const laser::DetectorOptions& detector() const { return detector_; }
@@ -221,6 +240,10 @@ class LineStage {
     *profile = laser::TriangulateProfile(camera_, laser_,
                                          laser::CameraFromLaserAtAngle(camera_from_laser_, angle),
                                          detection->points, record.index);
+    if (motion_filter_ && !laser_off && !detection->candidates.empty()) {
+      motion_filter_->End(detection->candidates, *profile);
+      detection->candidates = {};
+    }
     report_->triangulation_failures += profile->failed;
     report_->seconds_triangulate += Seconds(t);
   }
@@ -237,6 +260,12 @@ class LineStage {
       sweep_filter_->Begin(record.index, *record.laser_angle_rad);
       options.exclude_candidate = sweep_filter_->Predicate();
       options.exclude_candidate_on_restore = sweep_filter_->Predicate(/*strict=*/true);
+      options.keep_candidates = true;
+    } else if (motion_filter_) {
+      // Its candidates are remembered with the profile's depths (Process).
+      motion_filter_->Begin(record.index, record.timestamp_s);
+      options.exclude_candidate = motion_filter_->Predicate();
+      options.exclude_candidate_on_restore = motion_filter_->Predicate(/*strict=*/true);
       options.keep_candidates = true;
     }
     laser::Detection detection =
@@ -283,6 +312,7 @@ class LineStage {
   ReconstructReport* report_;
   laser::DetectorOptions detector_;
   std::optional<laser::SweepFilter> sweep_filter_;
+  std::optional<laser::MotionFilter> motion_filter_;
   cv::Mat dark_image_;  // the last laser-off frame of an interleaved scan
   size_t dark_frame_ = 0;
 };
@@ -430,6 +460,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
       if (!first_pose) first_pose = update.world_from_camera;
       trajectory.Add({it->second.timestamp_s, update.world_from_camera});
       placed_poses.push_back({it->second.timestamp_s, update.world_from_camera});
+      line_stage.SetPose(update.frame, update.world_from_camera);
       ++frames_placed;
       add_profile(it->second.profile, update.frame, update.world_from_camera, *first_pose);
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
@@ -449,6 +480,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     t = std::chrono::steady_clock::now();
     fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
     const auto updates = provider->Add(input);
+    for (const auto& raw : provider->Preliminary()) line_stage.SetPose(raw.frame, raw.world_from_camera);
     report.seconds_pose += Seconds(t);
 
     t = std::chrono::steady_clock::now();
@@ -502,6 +534,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                                      1.5 * frame_interval);
       if (main_pose) {
         const Rigid3d pose = *main_pose * other.main_from_camera;
+        other_stage.SetPose(record.index, pose);
         other_trajectory.Add({record.timestamp_s, pose});
         add_profile(profile, record.index, pose, *first_pose * other.main_from_camera);
         camera_report.points += static_cast<long>(profile.points.size());

@@ -25,9 +25,11 @@ struct ReconstructJob {
   std::string laser_name;           // default: the first laser
   laser::DetectorOptions detector;  // scan direction and colour come from the rig
   fusion::SelfReferencedOptions self_referenced;
-  // Servo datasets: ignore line candidates that stay put while the sheet
-  // sweeps (laser/sweep_filter.h, thesis §5.5).
-  bool sweep_filter = true;
+  // Ignore line candidates that behave like scene texture (thesis §5.5): on
+  // servo datasets those that stay put while the sheet sweeps
+  // (laser/sweep_filter.h), with a fixed laser those that move with the
+  // scene as the platform moves (laser/motion_filter.h).
+  bool texture_filter = true;
   // Drop line detections on an albedo edge, judged in the flood-lit channel
   // (laser::DetectorOptions::albedo_channel; red for a green laser).
   bool drop_albedo_edges = true;

@@ -94,6 +94,13 @@ void AddSecondPod(SimConfig* config) {
   config->floods.push_back(led1);
 }
 
+// Paint albedos: white, road-marking yellow, green.
+Eigen::Vector3d StripeAlbedo(const std::string& colour) {
+  if (colour == "green") return {0.08, 0.7, 0.15};
+  if (colour == "yellow") return {0.85, 0.75, 0.1};
+  return {0.9, 0.9, 0.9};
+}
+
 Scenario TankTarget(const ScenarioOptions& options) {
   Scenario s;
   s.name = "tank-target";
@@ -102,12 +109,10 @@ Scenario TankTarget(const ScenarioOptions& options) {
   Surface floor = Floor(options.seed, 40.0);
   if (options.painted_stripe_m > 0) {
     // Beside the target, inside the laser's sweep (x -0.15 .. 0.7 m), along y
-    // like the line. Paint albedos: white, road-marking yellow, green.
+    // like the line.
     floor.texture.stripe_width_m = options.painted_stripe_m;
     floor.texture.stripe_s_m = -0.05;
-    floor.texture.stripe_albedo = options.painted_stripe_colour == "green"    ? Eigen::Vector3d(0.08, 0.7, 0.15)
-                                  : options.painted_stripe_colour == "yellow" ? Eigen::Vector3d(0.85, 0.75, 0.1)
-                                                                              : Eigen::Vector3d(0.9, 0.9, 0.9);
+    floor.texture.stripe_albedo = StripeAlbedo(options.painted_stripe_colour);
   }
   s.config.scene.surfaces.push_back(floor);
   Surface board = Checkerboard("checkerboard", 14, 10, 0.03);
@@ -185,7 +190,16 @@ Scenario SeabedTransect(const ScenarioOptions& options) {
   const int width = options.width.value_or(640), height = options.height.value_or(480);
   AddThesisScanner(options, width, height, &s.config);
   s.config.lasers.front().servo = false;
-  s.config.scene.surfaces.push_back(Floor(options.seed, 60.0));
+  Surface floor = Floor(options.seed, 60.0);
+  if (options.painted_stripe_m > 0) {
+    // Markings across the track every 2 m (survey tape, marker bands),
+    // parallel to the laser line: they pass through it as the vehicle moves.
+    floor.texture.stripe_width_m = options.painted_stripe_m;
+    floor.texture.stripe_s_m = 1.0;
+    floor.texture.stripe_period_m = 2.0;
+    floor.texture.stripe_albedo = StripeAlbedo(options.painted_stripe_colour);
+  }
+  s.config.scene.surfaces.push_back(floor);
   Surface pipe;
   pipe.name = "pipeline";
   pipe.type = SurfaceType::kCylinder;

@@ -30,8 +30,9 @@ void WriteTexture(const Texture& t, std::ostream& out) {
       << "      squares: [" << t.squares_x << ", " << t.squares_y << "]\n";
   if (t.stripe_width_m > 0.0) {
     out << "      stripe: {width_m: " << YamlNumber(t.stripe_width_m)
-        << ", s_m: " << YamlNumber(t.stripe_s_m) << ", albedo: " << YamlVector(t.stripe_albedo)
-        << "}\n";
+        << ", s_m: " << YamlNumber(t.stripe_s_m);
+    if (t.stripe_period_m > 0.0) out << ", period_m: " << YamlNumber(t.stripe_period_m);
+    out << ", albedo: " << YamlVector(t.stripe_albedo) << "}\n";
   }
 }
 
@@ -53,6 +54,7 @@ Texture ReadTexture(StrictMap map) {
     StrictMap stripe = map.Child("stripe");
     t.stripe_width_m = stripe.Number("width_m");
     t.stripe_s_m = stripe.Number("s_m");
+    if (stripe.Has("period_m")) t.stripe_period_m = stripe.Number("period_m");
     t.stripe_albedo = stripe.Vector3("albedo");
     stripe.CheckNoUnknownKeys();
   }

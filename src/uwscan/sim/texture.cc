@@ -94,10 +94,14 @@ TextureType TextureFromName(const std::string& name, const std::string& context)
 Eigen::Vector3d Texture::Albedo(double s, double t, double footprint_m) const {
   const Eigen::Vector3d base = BaseAlbedo(s, t, footprint_m);
   if (stripe_width_m <= 0.0) return base;
-  // Share of the footprint [s - f/2, s + f/2] on the stripe.
+  // Share of the footprint [s - f/2, s + f/2] on the (nearest) stripe.
+  const double centre =
+      stripe_period_m > 0.0
+          ? stripe_s_m + stripe_period_m * std::round((s - stripe_s_m) / stripe_period_m)
+          : stripe_s_m;
   const double half = 0.5 * stripe_width_m, f = std::max(footprint_m, 1e-9);
-  const double lo = std::max(s - 0.5 * f, stripe_s_m - half);
-  const double hi = std::min(s + 0.5 * f, stripe_s_m + half);
+  const double lo = std::max(s - 0.5 * f, centre - half);
+  const double hi = std::min(s + 0.5 * f, centre + half);
   const double share = std::clamp((hi - lo) / f, 0.0, 1.0);
   return base + share * (stripe_albedo - base);
 }
@@ -177,6 +181,9 @@ void Texture::Check(const std::string& context) const {
   UWS_CHECK(squares_x >= 2 && squares_y >= 2, context, ": checkerboard needs at least 2x2 squares");
   UWS_CHECK(std::isfinite(stripe_width_m) && stripe_width_m >= 0 && std::isfinite(stripe_s_m),
             context, ": stripe width must be >= 0 and its position finite");
+  UWS_CHECK(std::isfinite(stripe_period_m) && stripe_period_m >= 0 &&
+                (stripe_period_m == 0 || stripe_period_m > 2 * stripe_width_m),
+            context, ": stripe period must be 0 or more than twice the stripe width");
   UWS_CHECK(stripe_albedo.allFinite() && stripe_albedo.minCoeff() >= 0 &&
                 stripe_albedo.maxCoeff() <= 1,
             context, ": stripe albedo must be in [0, 1]");

@@ -35,6 +35,7 @@ struct Texture {
   // wide (0 = none), centred at s = stripe_s_m, running along t.
   double stripe_width_m = 0.0;
   double stripe_s_m = 0.0;
+  double stripe_period_m = 0.0;  // > 0: repeated every period along s
   Eigen::Vector3d stripe_albedo = Eigen::Vector3d(0.9, 0.9, 0.9);
 
   // Albedo at surface coordinates (s, t) in metres, averaged over a square
