@@ -46,6 +46,13 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "frames a feature track cut by the laser line may stay lost and still be taken "
                   "up again under its id (thesis §5.5; 0 = off)")
       ->capture_default_str();
+  cmd->add_option("--max-tracking-width", job->self_referenced.max_tracking_width,
+                  "the odometry tracks the image halved until it is at most this wide (0 = full "
+                  "resolution)")
+      ->capture_default_str();
+  cmd->add_option("--smoothing-half-window", job->self_referenced.smoothing_half_window,
+                  "poses smoothed over +-N frames (quadratic fit), output N frames late (0 = raw)")
+      ->capture_default_str();
   cmd->add_option("--init-refinements", job->self_referenced.init_refinements,
                   "times the frames held at the start are tracked and their laser profiles "
                   "placed again with those poses before the scan goes on (0 = once, with the "
