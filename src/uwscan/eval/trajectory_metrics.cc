@@ -56,6 +56,7 @@ void TrajectoryMetricsOptions::Check() const {
   UWS_CHECK(max_time_difference_s >= 0, "max_time_difference_s must be >= 0");
   UWS_CHECK(rpe_step >= 1, "rpe_step must be >= 1");
   UWS_CHECK(drift_start_step >= 1, "drift_start_step must be >= 1");
+  UWS_CHECK(motion_lag >= 0, "motion_lag must be >= 0");
   for (double length : drift_lengths_m) UWS_CHECK(length > 0, "drift lengths must be > 0");
 }
 
@@ -146,6 +147,25 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     metrics.rpe_rot_mean_deg = r_sum / metrics.rpe_pairs;
   }
 
+  // Motion magnitudes, estimated over true, without alignment.
+  metrics.motion_lag =
+      options.motion_lag > 0 ? options.motion_lag : std::max(1, int(est.size()) / 10);
+  double t_cross = 0, t_true = 0, r_cross = 0, r_true = 0;
+  for (size_t i = 0, j = 0; i < est.size(); ++i) {
+    j = std::max(j, i + 1);
+    while (j < est.size() && gt_index[j] - gt_index[i] < metrics.motion_lag) ++j;
+    if (j >= est.size()) break;
+    if (gt_index[j] - gt_index[i] != metrics.motion_lag) continue;
+    const double t_est = (est[j].translation - est[i].translation).norm();
+    const double t_gt = (gt[j].translation - gt[i].translation).norm();
+    const double r_est = est[i].rotation.angularDistance(est[j].rotation);
+    const double r_gt = gt[i].rotation.angularDistance(gt[j].rotation);
+    t_cross += t_est * t_gt, t_true += t_gt * t_gt;
+    r_cross += r_est * r_gt, r_true += r_gt * r_gt;
+  }
+  metrics.motion_translation_ratio = t_true > 0 ? t_cross / t_true : 1.0;
+  metrics.motion_rotation_ratio = r_true > 0 ? r_cross / r_true : 1.0;
+
   // KITTI drift: cumulative ground-truth distance, then for every start
   // frame and length the first frame at least that far along the path.
   std::vector<double> distance(gt.size(), 0.0);
@@ -185,11 +205,14 @@ std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
                 "(95 %% block-bootstrap interval %.4g-%.4g)\n"
                 "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n"
                 "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n"
-                "drift (KITTI, %d segments): %.3f %% translation, %.4f deg/m rotation\n",
+                "drift (KITTI, %d segments): %.3f %% translation, %.4f deg/m rotation\n"
+                "motion over %d frames, estimated / true (no alignment): translation %.4f, "
+                "rotation %.4f\n",
                 m.associated, m.path_length_m, m.alignment.scale, m.scale_interval_low,
                 m.scale_interval_high, m.ate_rmse_m, m.ate_mean_m,
                 m.ate_median_m, m.ate_max_m, 1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg,
-                m.rpe_pairs, m.drift_segments, m.drift_trans_percent, m.drift_rot_deg_per_m);
+                m.rpe_pairs, m.drift_segments, m.drift_trans_percent, m.drift_rot_deg_per_m,
+                m.motion_lag, m.motion_translation_ratio, m.motion_rotation_ratio);
   std::string out = buffer;
   out += "drift lengths (m):";
   for (double length : m.drift_lengths_m) {

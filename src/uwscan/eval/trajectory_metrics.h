@@ -24,6 +24,9 @@ struct TrajectoryMetricsOptions {
   // KITTI path lengths (m); empty = 10%, 20%, ..., 50% of the ground-truth path.
   std::vector<double> drift_lengths_m;
   int drift_start_step = 1;  // every k-th frame starts a drift segment (KITTI: 10)
+  // Motion magnitudes between ground-truth frames this far apart (0: a
+  // tenth of the associated poses).
+  int motion_lag = 0;
   void Check() const;
 };
 
@@ -46,6 +49,14 @@ struct TrajectoryMetrics {
   double drift_trans_percent = 0, drift_rot_deg_per_m = 0;
   int drift_segments = 0;
   std::vector<double> drift_lengths_m;
+  // Without any alignment (lengths and angles do not depend on the world
+  // frame): least-squares ratio, estimated over true, of the translation
+  // lengths |t_j - t_i| and of the rotation angles between poses
+  // `motion_lag` ground-truth frames apart. A scale error shows in the
+  // first alone; the hover's rotation-about-the-scene mode moves them in
+  // opposite directions; a focal-length error moves both alike.
+  int motion_lag = 0;
+  double motion_translation_ratio = 1.0, motion_rotation_ratio = 1.0;
 };
 
 // Associates `estimate` with `ground_truth` by timestamp and computes the

@@ -140,5 +140,31 @@ TEST(TrajectoryMetrics, ScaleIntervalShowsHowWellTheScaleIsPinned) {
   EXPECT_GT(hover_width, 0.05);
 }
 
+// The motion ratios need no alignment: a trajectory whose translations are
+// 2 % too long and whose rotations are right, expressed in another world
+// frame, gives 1.02 and 1.00; rotations 1 % short give 0.99.
+TEST(TrajectoryMetrics, MotionRatiosSeparateTranslationFromRotation) {
+  std::vector<StampedPose> truth, estimate;
+  const Rigid3d other_world(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.8, Eigen::Vector3d(0.3, -1, 0.5).normalized())),
+      Eigen::Vector3d(4, -2, 1));
+  for (int i = 0; i < 400; ++i) {
+    const double t = i / 144.0;
+    const Eigen::Vector3d p(0.02 * std::sin(2.0 * t), 0.015 * std::cos(3.1 * t), 0.01 * t);
+    const Eigen::Vector3d w(0.01 * std::sin(1.3 * t), 0.008 * std::cos(2.2 * t), 0.005 * t);
+    const auto rotation = [](const Eigen::Vector3d& v) {
+      return Eigen::Quaterniond(Eigen::AngleAxisd(v.norm(), v.normalized()));
+    };
+    truth.push_back({t, Rigid3d(rotation(w), p)});
+    estimate.push_back({t, other_world * Rigid3d(rotation(0.99 * w), 1.02 * p)});
+  }
+  const TrajectoryMetrics m = ComputeTrajectoryMetrics(estimate, truth);
+  EXPECT_EQ(m.motion_lag, 40);
+  EXPECT_NEAR(m.motion_translation_ratio, 1.02, 1e-9);
+  EXPECT_NEAR(m.motion_rotation_ratio, 0.99, 2e-3);
+  EXPECT_NE(FormatTrajectoryMetrics(m).find("translation 1.0200, rotation 0.99"), std::string::npos)
+      << FormatTrajectoryMetrics(m);
+}
+
 }  // namespace
 }  // namespace uwscan
