@@ -81,7 +81,8 @@ void RegisterReconstructCommand(CLI::App& app) {
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
                    r.pose_source.c_str(), r.seconds, r.RealTimeFactor(), out->c_str());
       for (const CameraReport& camera : r.other_cameras) {
-        std::fprintf(stderr, "reconstruct: camera %s with %s: %d frames (%d with a line), %ld points\n",
+        std::fprintf(stderr,
+                     "reconstruct: camera %s with %s: %d frames (%d with a line), %ld points\n",
                      camera.name.c_str(), camera.laser.c_str(), camera.frames,
                      camera.frames_with_line, camera.points);
       }

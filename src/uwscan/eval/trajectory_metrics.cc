@@ -209,10 +209,10 @@ std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
                 "motion over %d frames, estimated / true (no alignment): translation %.4f, "
                 "rotation %.4f\n",
                 m.associated, m.path_length_m, m.alignment.scale, m.scale_interval_low,
-                m.scale_interval_high, m.ate_rmse_m, m.ate_mean_m,
-                m.ate_median_m, m.ate_max_m, 1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg,
-                m.rpe_pairs, m.drift_segments, m.drift_trans_percent, m.drift_rot_deg_per_m,
-                m.motion_lag, m.motion_translation_ratio, m.motion_rotation_ratio);
+                m.scale_interval_high, m.ate_rmse_m, m.ate_mean_m, m.ate_median_m, m.ate_max_m,
+                1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg, m.rpe_pairs, m.drift_segments,
+                m.drift_trans_percent, m.drift_rot_deg_per_m, m.motion_lag,
+                m.motion_translation_ratio, m.motion_rotation_ratio);
   std::string out = buffer;
   out += "drift lengths (m):";
   for (double length : m.drift_lengths_m) {

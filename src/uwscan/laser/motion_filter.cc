@@ -43,8 +43,7 @@ std::optional<Rigid3d> MotionFilter::PredictPose(double timestamp_s) const {
   const Eigen::AngleAxisd step(pb.rotation * pa.rotation.inverse());
   const Eigen::Quaterniond rotation =
       Eigen::Quaterniond(Eigen::AngleAxisd(w * step.angle(), step.axis())) * pb.rotation;
-  return Rigid3d(rotation.normalized(),
-                 pb.translation + w * (pb.translation - pa.translation));
+  return Rigid3d(rotation.normalized(), pb.translation + w * (pb.translation - pa.translation));
 }
 
 void MotionFilter::Begin(int frame, double timestamp_s) {
@@ -111,7 +110,8 @@ bool MotionFilter::MovesWithScene(double position, int line, bool strict) const 
 
 std::function<bool(double, int)> MotionFilter::Predicate(bool strict) const {
   if (references_.empty()) return {};
-  return [this, strict](double position, int line) { return MovesWithScene(position, line, strict); };
+  return
+      [this, strict](double position, int line) { return MovesWithScene(position, line, strict); };
 }
 
 void MotionFilter::End(const std::vector<LaserPoint>& candidates, const Profile& profile) {
@@ -132,9 +132,8 @@ void MotionFilter::End(const std::vector<LaserPoint>& candidates, const Profile&
     const auto first = std::lower_bound(depth_by_line.begin(), depth_by_line.end(),
                                         std::make_pair(line - options_.depth_search_lines, -1e300));
     nearby.clear();
-    for (auto it = first; it != depth_by_line.end() &&
-                          it->first <= line + options_.depth_search_lines;
-         ++it) {
+    for (auto it = first;
+         it != depth_by_line.end() && it->first <= line + options_.depth_search_lines; ++it) {
       nearby.push_back(it->second);
     }
     if (nearby.size() < 3) continue;

@@ -38,8 +38,8 @@ struct MotionFilterOptions {
   // (pose prediction and the depth taken from the line beside it).
   double tolerance_px = 2.0;
   double tolerance_of_shift = 0.1;
-  int line_search = 1;           // scan lines looked at on each side
-  int depth_search_lines = 30;   // profile points within this many scan lines give the depth
+  int line_search = 1;          // scan lines looked at on each side
+  int depth_search_lines = 30;  // profile points within this many scan lines give the depth
   // The current pose is predicted from poses at most this many frames old.
   int max_prediction_frames = 3;
   void Check() const;
@@ -84,8 +84,8 @@ class MotionFilter {
   std::deque<Past> history_;
   int frame_ = 0;
   double timestamp_s_ = 0.0;
-  std::vector<int> references_;             // frames compared with
-  std::vector<std::vector<Moved>> moved_;   // per scan line of the image
+  std::vector<int> references_;            // frames compared with
+  std::vector<std::vector<Moved>> moved_;  // per scan line of the image
 };
 
 }  // namespace uwscan::laser

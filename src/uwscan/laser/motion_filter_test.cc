@@ -82,7 +82,8 @@ TEST_F(MotionFilterTest, AStripeMovingWithTheFloorIsExcludedTheLineIsNot) {
       int stripe_excluded = 0, laser_excluded = 0;
       for (const LaserPoint& c : candidates) {
         const bool is_laser = c.u == kLaserColumn;
-        (is_laser ? laser_excluded : stripe_excluded) += excluded(c.u, static_cast<int>(std::lround(c.v)));
+        (is_laser ? laser_excluded : stripe_excluded) +=
+            excluded(c.u, static_cast<int>(std::lround(c.v)));
       }
       EXPECT_EQ(laser_excluded, 0) << k;
       EXPECT_GT(stripe_excluded, 0.9 * stripe.size()) << k;

@@ -58,7 +58,8 @@ ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const f
   // OUT/trajectory_NAME.tum): their frames, true and placed poses.
   std::vector<Rig> other_rigs;
   for (const Camera& other : scenario.config.rig.cameras) {
-    const fs::path folder = dataset / other.name, placed = result / ("trajectory_" + other.name + ".tum");
+    const fs::path folder = dataset / other.name,
+                   placed = result / ("trajectory_" + other.name + ".tum");
     if (&other == &camera || !fs::exists(folder / "frames.csv") || !fs::exists(placed)) continue;
     other_rigs.push_back(ReadRigYaml(folder / "rig.yaml"));
   }

@@ -13,8 +13,8 @@
 #include "uwscan/io/ply.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
-#include "uwscan/laser/profile.h"
 #include "uwscan/laser/motion_filter.h"
+#include "uwscan/laser/profile.h"
 #include "uwscan/laser/sweep_filter.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/atomic_file.h"
@@ -70,11 +70,10 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   }
   for (const auto& camera : other_cameras) {
     if (camera.frames_without_pose > 0 || camera.frames_with_line < 0.9 * camera.frames) {
-      warnings.push_back("camera " + camera.name + ": " +
-                         std::to_string(camera.frames - camera.frames_with_line) +
-                         " frame(s) without a laser line, " +
-                         std::to_string(camera.frames_without_pose) +
-                         " outside the main camera's trajectory (left out)");
+      warnings.push_back(
+          "camera " + camera.name + ": " + std::to_string(camera.frames - camera.frames_with_line) +
+          " frame(s) without a laser line, " + std::to_string(camera.frames_without_pose) +
+          " outside the main camera's trajectory (left out)");
     }
   }
   const auto count = [&](const char* key) {
@@ -353,8 +352,8 @@ class FrameReader {
 // camera and its laser first.
 struct OtherCamera {
   fs::path folder;
-  Rig rig;                         // as DATASET/NAME/rig.yaml has it
-  Rigid3d main_from_camera;        // from the main camera, through the rig
+  Rig rig;                   // as DATASET/NAME/rig.yaml has it
+  Rigid3d main_from_camera;  // from the main camera, through the rig
 };
 
 std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& rig,
@@ -363,11 +362,11 @@ std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& ri
   for (size_t c = 0; c < rig.cameras.size(); ++c) {
     const fs::path folder = dataset / rig.cameras[c].name;
     if (c == main_camera || !fs::exists(folder / "frames.csv")) continue;
-    OtherCamera other{folder, ReadRigYaml(folder / "rig.yaml"),
-                      rig.cameras[main_camera].rig_from_camera.Inverse() *
-                          rig.cameras[c].rig_from_camera};
-    UWS_CHECK(other.rig.cameras.front().name == rig.cameras[c].name,
-              (folder / "rig.yaml").string(), ": lists camera '", other.rig.cameras.front().name,
+    OtherCamera other{
+        folder, ReadRigYaml(folder / "rig.yaml"),
+        rig.cameras[main_camera].rig_from_camera.Inverse() * rig.cameras[c].rig_from_camera};
+    UWS_CHECK(other.rig.cameras.front().name == rig.cameras[c].name, (folder / "rig.yaml").string(),
+              ": lists camera '", other.rig.cameras.front().name,
               "' first, but the folder holds camera '", rig.cameras[c].name, "''s images");
     others.push_back(std::move(other));
   }
@@ -385,18 +384,18 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   const LineProjector& laser = rig.LaserByName(job.laser_name);
   const size_t camera_index = &camera - rig.cameras.data();
   const size_t laser_index = &laser - rig.lasers.data();
-  UWS_CHECK(camera_index == 0 || !fs::exists(job.dataset / camera.name / "frames.csv"),
-            "--camera ", camera.name, ": ", job.dataset.string(),
-            " holds the images of camera '", rig.cameras.front().name, "'; camera '",
-            camera.name, "''s are in ", (job.dataset / camera.name).string(),
+  UWS_CHECK(camera_index == 0 || !fs::exists(job.dataset / camera.name / "frames.csv"), "--camera ",
+            camera.name, ": ", job.dataset.string(), " holds the images of camera '",
+            rig.cameras.front().name, "'; camera '", camera.name, "''s are in ",
+            (job.dataset / camera.name).string(),
             " (reconstructing the whole dataset uses every camera)");
   const Rigid3d camera_from_laser = rig.CameraFromLaser(camera_index, laser_index);
   const auto frames = ReadFrames(job.dataset, job.max_frames);
   ReconstructReport report;
   LineStage line_stage(job, job.dataset, camera, laser, camera_from_laser, frames, &report);
-  const std::vector<OtherCamera> others =
-      job.other_cameras && job.camera_name.empty() ? FindOtherCameras(job.dataset, rig, 0)
-                                                   : std::vector<OtherCamera>{};
+  const std::vector<OtherCamera> others = job.other_cameras && job.camera_name.empty()
+                                              ? FindOtherCameras(job.dataset, rig, 0)
+                                              : std::vector<OtherCamera>{};
 
   if (!provider && job.poses_file) {
     provider = std::make_unique<fusion::TrajectoryPoseProvider>(ReadTum(*job.poses_file),
@@ -480,7 +479,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     t = std::chrono::steady_clock::now();
     fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
     const auto updates = provider->Add(input);
-    for (const auto& raw : provider->Preliminary()) line_stage.SetPose(raw.frame, raw.world_from_camera);
+    for (const auto& raw : provider->Preliminary())
+      line_stage.SetPose(raw.frame, raw.world_from_camera);
     report.seconds_pose += Seconds(t);
 
     t = std::chrono::steady_clock::now();
@@ -530,8 +530,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
       other_stage.Process(i, image, &detection, &profile);
       ++camera_report.frames;
       if (!detection.points.empty()) ++camera_report.frames_with_line;
-      const auto main_pose = fusion::InterpolatePose(placed_poses, record.timestamp_s,
-                                                     1.5 * frame_interval);
+      const auto main_pose =
+          fusion::InterpolatePose(placed_poses, record.timestamp_s, 1.5 * frame_interval);
       if (main_pose) {
         const Rigid3d pose = *main_pose * other.main_from_camera;
         other_stage.SetPose(record.index, pose);

@@ -64,10 +64,10 @@ struct ReconstructReport {
   long points = 0;
   long points_uncompensated = 0;
   long triangulation_failures = 0;
-  long static_detections_removed = 0;  // line candidates ignored by the sweep filter
-  long albedo_edge_points = 0;         // line points dropped on an albedo edge
+  long static_detections_removed = 0;     // line candidates ignored by the sweep filter
+  long albedo_edge_points = 0;            // line points dropped on an albedo edge
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
-  int frames_sweep_filter_restored = 0;  // nearly the whole line would have gone: kept
+  int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   double sequence_duration_s = 0.0;  // from the frame timestamps

@@ -68,8 +68,7 @@ Rigid3d Rig::CameraFromLaser(size_t camera_index, size_t laser_index) const {
 }
 
 Rig Rig::Reordered(size_t first_camera, size_t first_laser) const {
-  UWS_CHECK(first_camera < cameras.size() && first_laser < lasers.size(),
-            "rig index out of range");
+  UWS_CHECK(first_camera < cameras.size() && first_laser < lasers.size(), "rig index out of range");
   Rig rig;
   const auto first_then_others = [](size_t first, size_t count) {
     std::vector<size_t> order = {first};
@@ -78,7 +77,8 @@ Rig Rig::Reordered(size_t first_camera, size_t first_laser) const {
     }
     return order;
   };
-  for (size_t c : first_then_others(first_camera, cameras.size())) rig.cameras.push_back(cameras[c]);
+  for (size_t c : first_then_others(first_camera, cameras.size()))
+    rig.cameras.push_back(cameras[c]);
   for (size_t l : first_then_others(first_laser, lasers.size())) {
     LineProjector laser = lasers[l];
     laser.camera_from_laser = CameraFromLaser(first_camera, l);

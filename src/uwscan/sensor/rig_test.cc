@@ -14,9 +14,9 @@ Rig TwoPods() {
   Camera left = Camera::Flat1(), right = Camera::Flat1();
   left.name = "cam0";
   right.name = "cam1";
-  right.rig_from_camera = Rigid3d(
-      Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 1, 0.1).normalized())),
-      Eigen::Vector3d(0.8, 0.1, 0.02));
+  right.rig_from_camera =
+      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 1, 0.1).normalized())),
+              Eigen::Vector3d(0.8, 0.1, 0.02));
   rig.cameras = {left, right};
   LineProjector a, b;
   a.name = "laser0";
@@ -48,16 +48,15 @@ TEST(Rig, ReorderedKeepsEveryCameraLaserPair) {
   // The same physical geometry, whichever camera comes first.
   for (size_t c = 0; c < 2; ++c) {
     for (size_t l = 0; l < 2; ++l) {
-      EXPECT_LT(PoseDistance(seen_from_right.CameraFromLaser(1 - c, 1 - l),
-                             rig.CameraFromLaser(c, l)),
-                1e-12)
+      EXPECT_LT(
+          PoseDistance(seen_from_right.CameraFromLaser(1 - c, 1 - l), rig.CameraFromLaser(c, l)),
+          1e-12)
           << c << " " << l;
     }
   }
   // First camera and laser unchanged: the same rig.
   const Rig same = rig.Reordered(0, 0);
-  EXPECT_LT(PoseDistance(same.lasers[1].camera_from_laser, rig.lasers[1].camera_from_laser),
-            1e-12);
+  EXPECT_LT(PoseDistance(same.lasers[1].camera_from_laser, rig.lasers[1].camera_from_laser), 1e-12);
   EXPECT_THROW(rig.Reordered(2, 0), Error);
 }
 

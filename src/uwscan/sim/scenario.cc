@@ -72,8 +72,9 @@ void AddSecondPod(SimConfig* config) {
                    mirror * pose.translation);
   };
   Rig& rig = config->rig;
-  const Rigid3d camera0_from_camera1(Eigen::Quaterniond::Identity(),
-                                     {rig.lasers.front().camera_from_laser.translation.x(), 0.10, 0});
+  const Rigid3d camera0_from_camera1(
+      Eigen::Quaterniond::Identity(),
+      {rig.lasers.front().camera_from_laser.translation.x(), 0.10, 0});
   Camera camera1 = rig.cameras.front();
   camera1.name = "cam1";
   camera1.rig_from_camera = rig.cameras.front().rig_from_camera * camera0_from_camera1;
@@ -277,7 +278,8 @@ void ScenarioOptions::Check() const {
   UWS_CHECK(std::isfinite(painted_stripe_m) && painted_stripe_m >= 0 && painted_stripe_m <= 0.5,
             "--painted-stripe must be in [0, 0.5] m (got ", painted_stripe_m, ")");
   UWS_CHECK(pods == 1 || pods == 2, "--pods must be 1 or 2 (got ", pods, ")");
-  UWS_CHECK(pods == 1 || !laser_interleave, "--pods 2: the pods' lasers are paired, not interleaved");
+  UWS_CHECK(pods == 1 || !laser_interleave,
+            "--pods 2: the pods' lasers are paired, not interleaved");
   UWS_CHECK(painted_stripe_colour == "white" || painted_stripe_colour == "yellow" ||
                 painted_stripe_colour == "green",
             "--stripe-colour must be white, yellow or green (got '", painted_stripe_colour, "')");
@@ -290,20 +292,20 @@ double Scenario::ServoAngle(double frame) const {
 
 FrameState Scenario::FrameAt(const Trajectory& trajectory, int frame, size_t camera) const {
   UWS_CHECK(camera < Cameras(), "scenario ", name, ": no camera ", camera);
-  const Rigid3d camera0_from_camera =
-      config.rig.cameras.front().rig_from_camera.Inverse() *
-      config.rig.cameras[camera].rig_from_camera;
+  const Rigid3d camera0_from_camera = config.rig.cameras.front().rig_from_camera.Inverse() *
+                                      config.rig.cameras[camera].rig_from_camera;
   const double time = TimeOf(frame, camera);
   FrameState state;
-  state.world_from_camera = (views.empty() ? trajectory.WorldFromCamera(time)
-                                           : views.at(static_cast<size_t>(frame))) *
-                            camera0_from_camera;
+  state.world_from_camera =
+      (views.empty() ? trajectory.WorldFromCamera(time) : views.at(static_cast<size_t>(frame))) *
+      camera0_from_camera;
   // Camera k renders with its own laser source only (CameraConfig).
   const size_t sources = Cameras() > 1 ? 1 : config.lasers.size();
   state.laser_angles_rad.assign(sources, 0.0);
   for (size_t i = 0; i < sources; ++i) {
     const size_t source = Cameras() > 1 ? camera : i;
-    if (config.lasers.at(source).servo) state.laser_angles_rad[i] = ServoAngle(time * frame_rate_hz);
+    if (config.lasers.at(source).servo)
+      state.laser_angles_rad[i] = ServoAngle(time * frame_rate_hz);
   }
   state.lasers_on = !laser_interleave || frame % 2 == 0;
   state.noise_seed = camera == 0 ? StreamSeed(seed, 0xF4A3E, static_cast<uint64_t>(frame))
@@ -377,8 +379,8 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
   scenario.laser_interleave = options.laser_interleave;
   if (options.pods == 2) {
     if (name != "tank-target" && name != "hull") {
-      throw UsageError("--pods 2: only tank-target and hull have the two-pod vehicle (got " +
-                       name + ")");
+      throw UsageError("--pods 2: only tank-target and hull have the two-pod vehicle (got " + name +
+                       ")");
     }
     AddSecondPod(&scenario.config);
   }

@@ -335,7 +335,8 @@ TEST(ScenarioTest, TwoPodsEachCameraSeesTheOtherPodsLine) {
   const Renderer renderer(seen);
   const auto truth = renderer.LaserGroundTruth(state);
   ASSERT_GT(truth.size(), 100u);
-  const Rigid3d laser_from_camera = renderer.CameraFromLaser(0, state.laser_angles_rad[0]).Inverse();
+  const Rigid3d laser_from_camera =
+      renderer.CameraFromLaser(0, state.laser_angles_rad[0]).Inverse();
   const cv::Mat image = renderer.Render(state).image;
   int bright = 0;
   for (const LaserPoint& point : truth) {
@@ -344,8 +345,7 @@ TEST(ScenarioTest, TwoPodsEachCameraSeesTheOtherPodsLine) {
     EXPECT_LT(std::min(std::abs(world.z()), std::abs(world.z() - 0.005)), 1e-6);
     // ... and on laser1's sheet, seen from camera 1.
     const auto residual = seen.rig.lasers.front().SheetResidual(
-        seen.rig.lasers.front().camera_from_laser *
-        (laser_from_camera * point.point_in_camera));
+        seen.rig.lasers.front().camera_from_laser * (laser_from_camera * point.point_in_camera));
     ASSERT_TRUE(residual.has_value());
     EXPECT_LT(std::abs(*residual), 1e-6);
     const cv::Vec3b bgr = image.at<cv::Vec3b>(static_cast<int>(std::lround(point.pixel.y())),

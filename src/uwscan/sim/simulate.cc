@@ -108,7 +108,8 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
       scenario.config.rig.cameras[camera].rig_from_camera;
   std::vector<StampedPose> log =
       SimulateIns(trajectory, 0.0, scenario.TimeOf(std::max(0, scenario.frames - 1)), ins);
-  for (StampedPose& pose : log) pose.world_from_camera = pose.world_from_camera * camera0_from_camera;
+  for (StampedPose& pose : log)
+    pose.world_from_camera = pose.world_from_camera * camera0_from_camera;
   WriteTum(folder / "ins.tum", log);
 }
 

@@ -184,9 +184,9 @@ void Texture::Check(const std::string& context) const {
   UWS_CHECK(std::isfinite(stripe_period_m) && stripe_period_m >= 0 &&
                 (stripe_period_m == 0 || stripe_period_m > 2 * stripe_width_m),
             context, ": stripe period must be 0 or more than twice the stripe width");
-  UWS_CHECK(stripe_albedo.allFinite() && stripe_albedo.minCoeff() >= 0 &&
-                stripe_albedo.maxCoeff() <= 1,
-            context, ": stripe albedo must be in [0, 1]");
+  UWS_CHECK(
+      stripe_albedo.allFinite() && stripe_albedo.minCoeff() >= 0 && stripe_albedo.maxCoeff() <= 1,
+      context, ": stripe albedo must be in [0, 1]");
 }
 
 }  // namespace uwscan::sim
