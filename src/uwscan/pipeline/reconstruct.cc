@@ -352,18 +352,19 @@ class FrameReader {
 // camera and its laser first.
 struct OtherCamera {
   fs::path folder;
+  std::vector<FrameRecord> frames;
   Rig rig;                   // as DATASET/NAME/rig.yaml has it
   Rigid3d main_from_camera;  // from the main camera, through the rig
 };
 
 std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& rig,
-                                          size_t main_camera) {
+                                          size_t main_camera, int max_frames) {
   std::vector<OtherCamera> others;
   for (size_t c = 0; c < rig.cameras.size(); ++c) {
     const fs::path folder = dataset / rig.cameras[c].name;
     if (c == main_camera || !fs::exists(folder / "frames.csv")) continue;
     OtherCamera other{
-        folder, ReadRigYaml(folder / "rig.yaml"),
+        folder, ReadFrames(folder, max_frames), ReadRigYaml(folder / "rig.yaml"),
         rig.cameras[main_camera].rig_from_camera.Inverse() * rig.cameras[c].rig_from_camera};
     UWS_CHECK(other.rig.cameras.front().name == rig.cameras[c].name, (folder / "rig.yaml").string(),
               ": lists camera '", other.rig.cameras.front().name,
@@ -393,9 +394,10 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   const auto frames = ReadFrames(job.dataset, job.max_frames);
   ReconstructReport report;
   LineStage line_stage(job, job.dataset, camera, laser, camera_from_laser, frames, &report);
-  const std::vector<OtherCamera> others = job.other_cameras && job.camera_name.empty()
-                                              ? FindOtherCameras(job.dataset, rig, 0)
-                                              : std::vector<OtherCamera>{};
+  const std::vector<OtherCamera> others =
+      job.other_cameras && job.camera_name.empty()
+          ? FindOtherCameras(job.dataset, rig, 0, job.max_frames)
+          : std::vector<OtherCamera>{};
 
   if (!provider && job.poses_file) {
     provider = std::make_unique<fusion::TrajectoryPoseProvider>(ReadTum(*job.poses_file),
@@ -421,9 +423,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                 (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
           : 0.0;
   long total_frames = static_cast<long>(frames.size());
-  for (const auto& other : others) {
-    total_frames += static_cast<long>(ReadFrames(other.folder, job.max_frames).size());
-  }
+  for (const auto& other : others) total_frames += static_cast<long>(other.frames.size());
   ProgressBar progress("reconstruct", total_frames, !job.quiet);
   long frames_done = 0;
   std::optional<Rigid3d> first_pose;
@@ -514,7 +514,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
           : 0.0;
   for (const OtherCamera& other : others) {
     const Camera& other_camera = other.rig.cameras.front();
-    const auto other_frames = ReadFrames(other.folder, job.max_frames);
+    const std::vector<FrameRecord>& other_frames = other.frames;
     LineStage other_stage(job, other.folder, other_camera, other.rig.lasers.front(),
                           other.rig.CameraFromLaser(0, 0), other_frames, &report);
     TumWriter other_trajectory(job.out / ("trajectory_" + other_camera.name + ".tum"));
