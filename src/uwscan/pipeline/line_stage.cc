@@ -1,0 +1,164 @@
+#include "uwscan/pipeline/line_stage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "uwscan/io/image.h"
+#include "uwscan/pipeline/laser_detect.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace fs = std::filesystem;
+
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+}  // namespace
+
+LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& camera,
+                     const LineProjector& laser, const Rigid3d& camera_from_laser,
+                     const std::vector<FrameRecord>& frames, ReconstructReport* report)
+    : job_(job),
+      dataset_(std::move(dataset)),
+      camera_(camera),
+      laser_(laser),
+      camera_from_laser_(camera_from_laser),
+      frames_(frames),
+      report_(report) {
+  detector_ = job.detector;
+  detector_.scan_rows = LaserLineIsVertical(camera, camera_from_laser);
+  detector_.laser_channel = laser::ChannelForWavelength(laser.wavelength_nm);
+  detector_.albedo_channel =
+      job.drop_albedo_edges ? laser::AlbedoChannelFor(detector_.laser_channel) : -1;
+  detector_.make_mask = true;
+  if (job.texture_filter) {
+    const bool servo = std::any_of(frames.begin(), frames.end(), [&](const FrameRecord& f) {
+      return f.laser_angle_rad && frames.front().laser_angle_rad &&
+             std::abs(*f.laser_angle_rad - *frames.front().laser_angle_rad) > 1e-6;
+    });
+    if (servo) {
+      StartSweepFilter();
+    } else {
+      laser::MotionFilterOptions motion;
+      motion.scan_rows = detector_.scan_rows;
+      motion_filter_.emplace(camera, motion);
+    }
+  }
+}
+
+void LineStage::SetPose(int frame, const Rigid3d& world_from_camera) {
+  if (motion_filter_) motion_filter_->SetPose(frame, world_from_camera);
+}
+
+void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detection,
+                        laser::Profile* profile) {
+  const FrameRecord& record = frames_[i];
+  UWS_CHECK(image.cols == camera_.width && image.rows == camera_.height,
+            (dataset_ / record.file).string(), ": image is ", image.cols, "x", image.rows,
+            " but camera '", camera_.name, "' is ", camera_.width, "x", camera_.height);
+  auto t = std::chrono::steady_clock::now();
+  // Interleaved scans (frames.csv laser_on, thesis §5.4): nothing to detect
+  // with the laser off; with it on, the line is found in the difference to
+  // the previous (laser-off) frame, where the scene's own texture, a
+  // painted stripe or the ambient light cancel.
+  const bool laser_off = record.laser_on && !*record.laser_on;
+  const bool difference = job_.detect_on_difference && record.laser_on && !laser_off;
+  *detection = {};
+  if (difference && (i == 0 || dark_image_.empty() || dark_frame_ != i - 1)) {
+    // No laser-off frame just before (the first frame): the line is not
+    // looked for in the raw image, where the scene could pass for it.
+  } else if (!laser_off) {
+    if (difference) {
+      cv::Mat lit_only;
+      cv::subtract(image, dark_image_, lit_only);  // saturates at 0
+      *detection = Detect(lit_only, record);
+      ++report_->frames_on_difference;
+    } else {
+      *detection = Detect(image, record);
+    }
+    report_->static_detections_removed += detection->stats.excluded_candidates;
+    report_->albedo_edge_points += detection->stats.albedo_edge_points;
+    // Noise and texture peaks are ignored now and then on any scene; a
+    // stripe or reflection shows on many scan lines of a frame.
+    report_->frames_with_static_detections +=
+        detection->stats.excluded_candidates >= 0.05 * ScanLines();
+    report_->frames_sweep_filter_restored += detection->stats.exclusion_restored;
+  } else {
+    ++report_->frames_laser_off;
+    dark_image_ = image;
+    dark_frame_ = i;
+  }
+  report_->seconds_detect += Seconds(t);
+
+  t = std::chrono::steady_clock::now();
+  const double angle = record.laser_angle_rad.value_or(0.0);
+  *profile = laser::TriangulateProfile(camera_, laser_,
+                                       laser::CameraFromLaserAtAngle(camera_from_laser_, angle),
+                                       detection->points, record.index);
+  if (motion_filter_ && !laser_off && !detection->candidates.empty()) {
+    motion_filter_->End(detection->candidates, *profile);
+    detection->candidates = {};
+  }
+  report_->triangulation_failures += profile->failed;
+  report_->seconds_triangulate += Seconds(t);
+}
+
+// The line in one frame; on servo scans, candidates standing where
+// candidates stood while the sheet turned are a stripe or reflection, not
+// the line (§5.5), and where nearly all would go (the line runs along a
+// stripe) only what stands exactly where the stripe stood is left out.
+laser::Detection LineStage::Detect(const cv::Mat& image, const FrameRecord& record) {
+  laser::DetectorOptions options = detector_;
+  const bool sweeping = sweep_filter_ && record.laser_angle_rad;
+  if (sweeping) {
+    sweep_filter_->Begin(record.index, *record.laser_angle_rad);
+    options.exclude_candidate = sweep_filter_->Predicate();
+    options.exclude_candidate_on_restore = sweep_filter_->Predicate(/*strict=*/true);
+    options.keep_candidates = true;
+  } else if (motion_filter_) {
+    // Its candidates are remembered with the profile's depths (Process).
+    motion_filter_->Begin(record.index, record.timestamp_s);
+    options.exclude_candidate = motion_filter_->Predicate();
+    options.exclude_candidate_on_restore = motion_filter_->Predicate(/*strict=*/true);
+    options.keep_candidates = true;
+  }
+  laser::Detection detection =
+      laser::DetectLaserLine(image, laser::LayoutFor(camera_.bayer, image.channels()), options);
+  if (sweeping) {
+    sweep_filter_->End(detection.candidates);
+    detection.candidates = {};
+  }
+  return detection;
+}
+
+void LineStage::StartSweepFilter() {
+  laser::SweepFilterOptions sweep;
+  sweep.scan_rows = detector_.scan_rows;
+  sweep.focal_px = detector_.scan_rows ? camera_.intrinsics[0] : camera_.intrinsics[1];
+  sweep_filter_.emplace(sweep);
+  // The first frames have no earlier frame the sheet has turned far
+  // enough from: remember the candidates of the first later frame that
+  // is (a fraction of a second ahead, the platform has hardly moved), so
+  // that a stripe is recognised from the first frame on. Interleaved
+  // scans need no such help (their difference images hold no stripe).
+  const bool interleaved = !frames_.empty() && frames_.front().laser_on.has_value();
+  if (interleaved || frames_.empty() || !frames_.front().laser_angle_rad) return;
+  const double start = *frames_.front().laser_angle_rad;
+  for (size_t k = 1; k < frames_.size() && k <= size_t(sweep.max_lag_frames); ++k) {
+    if (!frames_[k].laser_angle_rad ||
+        sweep.focal_px * std::abs(*frames_[k].laser_angle_rad - start) <
+            2.0 * sweep.min_expected_shift_px) {
+      continue;
+    }
+    const cv::Mat ahead = ReadImage(dataset_ / frames_[k].file);
+    if (ahead.cols != camera_.width || ahead.rows != camera_.height) break;  // reported later
+    Detect(ahead, frames_[k]);  // remembered by the filter
+    break;
+  }
+}
+
+}  // namespace uwscan

@@ -1,0 +1,56 @@
+// One camera's laser stage of `uwscan reconstruct`: the line in each frame
+// (the sweep filter on servo scans, the motion filter with a fixed laser,
+// difference images on interleaved scans, albedo edges dropped) and its
+// profile, with the counters and timings of the report.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "uwscan/io/dataset.h"
+#include "uwscan/laser/detector.h"
+#include "uwscan/laser/motion_filter.h"
+#include "uwscan/laser/profile.h"
+#include "uwscan/laser/sweep_filter.h"
+#include "uwscan/pipeline/reconstruct.h"
+
+namespace uwscan {
+
+class LineStage {
+ public:
+  // `camera`, `laser`, `frames`, `job` and `report` must outlive the stage.
+  LineStage(const ReconstructJob& job, std::filesystem::path dataset, const Camera& camera,
+            const LineProjector& laser, const Rigid3d& camera_from_laser,
+            const std::vector<FrameRecord>& frames, ReconstructReport* report);
+
+  // The pose of a frame, once known (the motion filter predicts from them).
+  void SetPose(int frame, const Rigid3d& world_from_camera);
+
+  const laser::DetectorOptions& detector() const { return detector_; }
+  int ScanLines() const { return detector_.scan_rows ? camera_.height : camera_.width; }
+
+  // Frame i of the sequence, its image as read: the line and its profile.
+  // Throws uwscan::Error (naming the file) if the image has the wrong size.
+  void Process(size_t i, const cv::Mat& image, laser::Detection* detection,
+               laser::Profile* profile);
+
+ private:
+  laser::Detection Detect(const cv::Mat& image, const FrameRecord& record);
+  void StartSweepFilter();
+
+  const ReconstructJob& job_;
+  std::filesystem::path dataset_;
+  const Camera& camera_;
+  const LineProjector& laser_;
+  Rigid3d camera_from_laser_;
+  const std::vector<FrameRecord>& frames_;
+  ReconstructReport* report_;
+  laser::DetectorOptions detector_;
+  std::optional<laser::SweepFilter> sweep_filter_;
+  std::optional<laser::MotionFilter> motion_filter_;
+  cv::Mat dark_image_;  // the last laser-off frame of an interleaved scan
+  size_t dark_frame_ = 0;
+};
+
+}  // namespace uwscan
