@@ -8,6 +8,7 @@
 #include <map>
 #include <opencv2/imgproc.hpp>
 
+#include "uwscan/io/rig_yaml.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/sim/simulate.h"
@@ -24,9 +25,9 @@ namespace fs = std::filesystem;
 class SelfReferencedHover : public ::testing::TestWithParam<int> {};
 
 TEST_P(SelfReferencedHover, CompensatesHoverMotion) {
-  const fs::path root = fs::temp_directory_path() /
-                        ("uwscan_fusion_test_" + std::to_string(::getpid()) + "_" +
-                         std::to_string(GetParam()));
+  const fs::path root =
+      fs::temp_directory_path() /
+      ("uwscan_fusion_test_" + std::to_string(::getpid()) + "_" + std::to_string(GetParam()));
   fs::remove_all(root);
   sim::ScenarioOptions options;
   options.width = 480;
@@ -63,8 +64,8 @@ INSTANTIATE_TEST_SUITE_P(TrackedWidth, SelfReferencedHover, ::testing::Values(0,
 // much. Tracking them on it and placing their profiles again with those
 // poses (init_refinements) must place the cloud clearly better.
 TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) {
-  const fs::path root = fs::temp_directory_path() /
-                        ("uwscan_fusion_init_test_" + std::to_string(::getpid()));
+  const fs::path root =
+      fs::temp_directory_path() / ("uwscan_fusion_init_test_" + std::to_string(::getpid()));
   fs::remove_all(root);
   sim::ScenarioOptions options;
   options.width = 480;
@@ -81,14 +82,89 @@ TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) 
     job.self_referenced.init_refinements = refinements;
     const ReconstructReport report = RunReconstruct(job);
     EXPECT_EQ(report.frames_without_pose, 0);
-    const auto floor =
-        *EvaluateReconstruction(job.dataset, job.out).compensated.Surface("floor");
+    const auto floor = *EvaluateReconstruction(job.dataset, job.out).compensated.Surface("floor");
     point_error_mm[refinements] = floor.point_error_rms_m * 1e3;
   }
   std::printf("floor point error: %.2f mm placed once, %.2f mm placed again twice\n",
               point_error_mm[0], point_error_mm[2]);
   EXPECT_LT(point_error_mm[2], 0.6 * point_error_mm[0]);
   EXPECT_LT(point_error_mm[2], 2.5);
+  fs::remove_all(root);
+}
+
+// What a provider reported: its raw poses (Preliminary, after each Add)
+// and the final ones.
+struct Reported {
+  std::map<int, Rigid3d> raw, final;
+  std::vector<int> final_without_raw;
+  int raw_same_frame = 0;
+};
+
+class RecordingProvider : public PoseProvider {
+ public:
+  RecordingProvider(std::unique_ptr<PoseProvider> inner, Reported* reported)
+      : inner_(std::move(inner)), reported_(reported) {}
+  std::vector<PoseUpdate> Add(const FrameInput& frame) override {
+    auto updates = inner_->Add(frame);
+    for (const PoseUpdate& raw : inner_->Preliminary()) {
+      reported_->raw[raw.frame] = raw.world_from_camera;
+      if (raw.frame == frame.index) ++reported_->raw_same_frame;
+    }
+    Record(updates);
+    return updates;
+  }
+  std::vector<PoseUpdate> Finish() override {
+    auto updates = inner_->Finish();
+    Record(updates);
+    return updates;
+  }
+  std::string Name() const override { return inner_->Name(); }
+  nlohmann::json Details() const override { return inner_->Details(); }
+
+ private:
+  void Record(const std::vector<PoseUpdate>& updates) {
+    for (const PoseUpdate& update : updates) {
+      reported_->final[update.frame] = update.world_from_camera;
+      if (!reported_->raw.count(update.frame)) reported_->final_without_raw.push_back(update.frame);
+    }
+  }
+  std::unique_ptr<PoseProvider> inner_;
+  Reported* reported_;
+};
+
+// The raw poses (for predictions such as the laser motion filter's) come
+// with the frame itself, before the smoother's delay, and differ from the
+// smoothed ones by the per-frame jitter only.
+TEST(SelfReferencedPoseProvider, RawPosesComeWithTheirFrame) {
+  const fs::path root =
+      fs::temp_directory_path() / ("uwscan_fusion_raw_test_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  sim::ScenarioOptions options;
+  options.width = 480;
+  options.height = 360;
+  options.frames = 60;
+  options.seed = 6;
+  sim::SimulateScenario("tank-target", options, root / "data");
+  ReconstructJob job;
+  job.dataset = root / "data";
+  job.out = root / "out";
+  job.quiet = true;
+  const Camera camera = ReadRigYaml(job.dataset / "rig.yaml").cameras.front();
+  Reported seen;
+  RunReconstruct(
+      job, std::make_unique<RecordingProvider>(std::make_unique<SelfReferencedPoseProvider>(
+                                                   camera, laser::kGreen, job.self_referenced),
+                                               &seen));
+  ASSERT_GT(seen.final.size(), 30u);
+  EXPECT_TRUE(seen.final_without_raw.empty());
+  // Tracked frames (all but those held at the start) report their own raw pose.
+  EXPECT_GT(seen.raw_same_frame, static_cast<int>(seen.final.size()) / 2);
+  double worst_mm = 0.0;
+  for (const auto& [frame, pose] : seen.final) {
+    worst_mm = std::max(worst_mm, 1e3 * (seen.raw.at(frame).translation - pose.translation).norm());
+  }
+  EXPECT_LT(worst_mm, 10.0);
+  EXPECT_GT(worst_mm, 0.0);  // smoothed: not the raw poses themselves
   fs::remove_all(root);
 }
 
@@ -157,7 +233,7 @@ TEST(SelfReferencedPoseProvider, FastIlluminationNormalisationMatchesFullGaussia
   cv::meanStdDev(exact(inner), mean, stddev);
   double max_difference = 0.0;
   cv::minMaxLoc(difference, nullptr, &max_difference);
-  EXPECT_GT(stddev[0], 10.0);  // real texture after the high pass
+  EXPECT_GT(stddev[0], 10.0);      // real texture after the high pass
   EXPECT_LE(max_difference, 2.0);  // grey levels, after the x4 gain
   EXPECT_LT(cv::mean(difference)[0], 0.3);
 }
