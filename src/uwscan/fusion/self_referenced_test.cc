@@ -17,6 +17,26 @@ namespace uwscan::fusion {
 namespace {
 namespace fs = std::filesystem;
 
+// A 480x360 tank-target hover simulated into a fresh temporary folder
+// (ROOT/data), and a quiet job on it writing to ROOT/out; ROOT is
+// job.dataset.parent_path().
+ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed) {
+  const fs::path root =
+      fs::temp_directory_path() / ("uwscan_fusion_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  sim::ScenarioOptions options;
+  options.width = 480;
+  options.height = 360;
+  options.frames = frames;
+  options.seed = seed;
+  sim::SimulateScenario("tank-target", options, root / "data");
+  ReconstructJob job;
+  job.dataset = root / "data";
+  job.out = root / "out";
+  job.quiet = true;
+  return job;
+}
+
 // End to end on a short simulated hover over the tank target: the
 // self-referenced poses must place the laser profiles clearly better than no
 // compensation, checked against the simulator's truth.
@@ -25,20 +45,7 @@ namespace fs = std::filesystem;
 class SelfReferencedHover : public ::testing::TestWithParam<int> {};
 
 TEST_P(SelfReferencedHover, CompensatesHoverMotion) {
-  const fs::path root =
-      fs::temp_directory_path() /
-      ("uwscan_fusion_test_" + std::to_string(::getpid()) + "_" + std::to_string(GetParam()));
-  fs::remove_all(root);
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = 90;
-  options.seed = 4;
-  sim::SimulateScenario("tank-target", options, root / "data");
-  ReconstructJob job;
-  job.dataset = root / "data";
-  job.out = root / "out";
-  job.quiet = true;
+  ReconstructJob job = SimulatedHover("hover_" + std::to_string(GetParam()), 90, 4);
   job.self_referenced.max_tracking_width = GetParam();
   const ReconstructReport report = RunReconstruct(job);
   EXPECT_EQ(report.pose_details["tracked_image_width"].get<int>(),
@@ -53,7 +60,7 @@ TEST_P(SelfReferencedHover, CompensatesHoverMotion) {
   const SurfaceAccuracy* floor_u = evaluation.uncompensated.Surface("floor");
   ASSERT_TRUE(floor_c && floor_u);
   EXPECT_LT(floor_c->distance_error_mean_pct, 0.5 * floor_u->distance_error_mean_pct);
-  fs::remove_all(root);
+  fs::remove_all(job.dataset.parent_path());
 }
 
 INSTANTIATE_TEST_SUITE_P(TrackedWidth, SelfReferencedHover, ::testing::Values(0, 240));
@@ -64,21 +71,11 @@ INSTANTIATE_TEST_SUITE_P(TrackedWidth, SelfReferencedHover, ::testing::Values(0,
 // much. Tracking them on it and placing their profiles again with those
 // poses (init_refinements) must place the cloud clearly better.
 TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) {
-  const fs::path root =
-      fs::temp_directory_path() / ("uwscan_fusion_init_test_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = 160;  // a slow sweep: ~15 frames held
-  options.seed = 5;
-  sim::SimulateScenario("tank-target", options, root / "data");
+  ReconstructJob job = SimulatedHover("init", 160, 5);  // a slow sweep: ~15 frames held
+  const fs::path root = job.dataset.parent_path();
   std::map<int, double> point_error_mm;
   for (const int refinements : {0, 2}) {
-    ReconstructJob job;
-    job.dataset = root / "data";
     job.out = root / ("out" + std::to_string(refinements));
-    job.quiet = true;
     job.self_referenced.init_refinements = refinements;
     const ReconstructReport report = RunReconstruct(job);
     EXPECT_EQ(report.frames_without_pose, 0);
@@ -136,19 +133,7 @@ class RecordingProvider : public PoseProvider {
 // with the frame itself, before the smoother's delay, and differ from the
 // smoothed ones by the per-frame jitter only.
 TEST(SelfReferencedPoseProvider, RawPosesComeWithTheirFrame) {
-  const fs::path root =
-      fs::temp_directory_path() / ("uwscan_fusion_raw_test_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = 60;
-  options.seed = 6;
-  sim::SimulateScenario("tank-target", options, root / "data");
-  ReconstructJob job;
-  job.dataset = root / "data";
-  job.out = root / "out";
-  job.quiet = true;
+  const ReconstructJob job = SimulatedHover("raw", 60, 6);
   const Camera camera = ReadRigYaml(job.dataset / "rig.yaml").cameras.front();
   Reported seen;
   RunReconstruct(
@@ -165,7 +150,7 @@ TEST(SelfReferencedPoseProvider, RawPosesComeWithTheirFrame) {
   }
   EXPECT_LT(worst_mm, 10.0);
   EXPECT_GT(worst_mm, 0.0);  // smoothed: not the raw poses themselves
-  fs::remove_all(root);
+  fs::remove_all(job.dataset.parent_path());
 }
 
 TEST(SelfReferenced, BayerSamplesOfTheLedColour) {

@@ -56,7 +56,8 @@ void MotionFilter::Begin(int frame, double timestamp_s) {
   }
   references_.clear();
   const int lines = options_.scan_rows ? camera_.height : camera_.width;
-  moved_.assign(static_cast<size_t>(lines), {});
+  moved_.resize(static_cast<size_t>(lines));
+  for (auto& on_line : moved_) on_line.clear();  // keeps their memory from frame to frame
   const std::optional<Rigid3d> world_from_camera = PredictPose(timestamp_s);
   if (!world_from_camera) return;
   const Rigid3d camera_from_world = world_from_camera->Inverse();
@@ -149,7 +150,6 @@ void MotionFilter::End(const std::vector<LaserPoint>& candidates, const Profile&
   }
   history_.push_back(std::move(now));
   references_.clear();  // they belonged to the frame that just ended
-  moved_.clear();
 }
 
 void MotionFilter::SetPose(int frame, const Rigid3d& world_from_camera) {

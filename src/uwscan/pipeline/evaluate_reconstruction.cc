@@ -5,7 +5,6 @@
 
 #include "uwscan/io/dataset.h"
 #include "uwscan/io/ply.h"
-#include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/error.h"
@@ -56,26 +55,21 @@ ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const f
   for (const auto& [frame, pose] : truth) first_everywhere[frame] = first_pose;
   // Further cameras of the rig (DATASET/NAME/, reconstructed into
   // OUT/trajectory_NAME.tum): their frames, true and placed poses.
-  std::vector<Rig> other_rigs;
-  for (const Camera& other : scenario.config.rig.cameras) {
+  const Rig& rig = scenario.config.rig;
+  std::map<int, const Camera*> frame_cameras;
+  for (size_t c = 1; c < rig.cameras.size(); ++c) {
+    const Camera& other = rig.cameras[c];
     const fs::path folder = dataset / other.name,
                    placed = result / ("trajectory_" + other.name + ".tum");
-    if (&other == &camera || !fs::exists(folder / "frames.csv") || !fs::exists(placed)) continue;
-    other_rigs.push_back(ReadRigYaml(folder / "rig.yaml"));
-  }
-  std::map<int, const Camera*> frame_cameras;
-  for (const Rig& rig : other_rigs) {
-    const Camera& other = rig.cameras.front();
-    const fs::path folder = dataset / other.name;
-    const Rigid3d main_from_other = camera.rig_from_camera.Inverse() * other.rig_from_camera;
+    if (!fs::exists(folder / "frames.csv") || !fs::exists(placed)) continue;
+    const Rigid3d main_from_other = rig.CameraFromCamera(0, c);
     for (const auto& [frame, pose] :
          PosesByFrame(folder / "groundtruth.tum", folder / "frames.csv")) {
       truth[frame] = pose;
       first_everywhere[frame] = first_pose * main_from_other;
       frame_cameras[frame] = &other;
     }
-    for (const auto& [frame, pose] :
-         PosesByFrame(result / ("trajectory_" + other.name + ".tum"), folder / "frames.csv")) {
+    for (const auto& [frame, pose] : PosesByFrame(placed, folder / "frames.csv")) {
       estimated[frame] = pose;
     }
   }

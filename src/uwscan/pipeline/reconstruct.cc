@@ -195,9 +195,8 @@ std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& ri
   for (size_t c = 0; c < rig.cameras.size(); ++c) {
     const fs::path folder = dataset / rig.cameras[c].name;
     if (c == main_camera || !fs::exists(folder / "frames.csv")) continue;
-    OtherCamera other{
-        folder, ReadFrames(folder, max_frames), ReadRigYaml(folder / "rig.yaml"),
-        rig.cameras[main_camera].rig_from_camera.Inverse() * rig.cameras[c].rig_from_camera};
+    OtherCamera other{folder, ReadFrames(folder, max_frames), ReadRigYaml(folder / "rig.yaml"),
+                      rig.CameraFromCamera(main_camera, c)};
     UWS_CHECK(other.rig.cameras.front().name == rig.cameras[c].name, (folder / "rig.yaml").string(),
               ": lists camera '", other.rig.cameras.front().name,
               "' first, but the folder holds camera '", rig.cameras[c].name, "''s images");
@@ -249,11 +248,13 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
 
   report.pose_source = provider->Name();
   report.scan_lines = line_stage.ScanLines();
-  report.sequence_duration_s =
+  const double frame_interval =
       frames.size() > 1
-          ? frames.back().timestamp_s - frames.front().timestamp_s +
-                (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
+          ? (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
           : 0.0;
+  report.sequence_duration_s =
+      frames.size() > 1 ? frames.back().timestamp_s - frames.front().timestamp_s + frame_interval
+                        : 0.0;
   long total_frames = static_cast<long>(frames.size());
   for (const auto& other : others) total_frames += static_cast<long>(other.frames.size());
   ProgressBar progress("reconstruct", total_frames, !job.quiet);
@@ -340,10 +341,6 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   // Further cameras (each with its own laser, §6.5): their profiles are
   // placed with the main camera's trajectory, interpolated to their
   // timestamps, and the rig's extrinsics.
-  const double frame_interval =
-      frames.size() > 1
-          ? (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
-          : 0.0;
   for (const OtherCamera& other : others) {
     const Camera& other_camera = other.rig.cameras.front();
     const std::vector<FrameRecord>& other_frames = other.frames;

@@ -62,9 +62,12 @@ const LineProjector& Rig::LaserByName(const std::string& name) const {
 
 Rigid3d Rig::CameraFromLaser(size_t camera_index, size_t laser_index) const {
   UWS_CHECK(camera_index < cameras.size() && laser_index < lasers.size(), "rig index out of range");
-  const Rigid3d camera_from_first =
-      cameras[camera_index].rig_from_camera.Inverse() * cameras.front().rig_from_camera;
-  return camera_from_first * lasers[laser_index].camera_from_laser;
+  return CameraFromCamera(camera_index, 0) * lasers[laser_index].camera_from_laser;
+}
+
+Rigid3d Rig::CameraFromCamera(size_t to_index, size_t from_index) const {
+  UWS_CHECK(to_index < cameras.size() && from_index < cameras.size(), "rig index out of range");
+  return cameras[to_index].rig_from_camera.Inverse() * cameras[from_index].rig_from_camera;
 }
 
 Rig Rig::Reordered(size_t first_camera, size_t first_laser) const {

@@ -33,6 +33,8 @@ struct Rig {
   const LineProjector& LaserByName(const std::string& name) const;
   // camera_from_laser for any camera of the rig.
   Rigid3d CameraFromLaser(size_t camera_index, size_t laser_index) const;
+  // to_from_from between two cameras of the rig, through rig_from_camera.
+  Rigid3d CameraFromCamera(size_t to_index, size_t from_index) const;
   // The same rig seen from another camera: that camera and that laser come
   // first (the defaults of every command), camera_from_laser re-expressed
   // relative to the new first camera, the others in their order.

@@ -54,6 +54,9 @@ TEST(Rig, ReorderedKeepsEveryCameraLaserPair) {
           << c << " " << l;
     }
   }
+  EXPECT_LT(PoseDistance(rig.CameraFromCamera(0, 1), rig.cameras[1].rig_from_camera), 1e-12);
+  EXPECT_LT(PoseDistance(rig.CameraFromCamera(1, 0) * rig.CameraFromCamera(0, 1), Rigid3d()),
+            1e-12);
   // First camera and laser unchanged: the same rig.
   const Rig same = rig.Reordered(0, 0);
   EXPECT_LT(PoseDistance(same.lasers[1].camera_from_laser, rig.lasers[1].camera_from_laser), 1e-12);

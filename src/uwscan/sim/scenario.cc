@@ -292,8 +292,7 @@ double Scenario::ServoAngle(double frame) const {
 
 FrameState Scenario::FrameAt(const Trajectory& trajectory, int frame, size_t camera) const {
   UWS_CHECK(camera < Cameras(), "scenario ", name, ": no camera ", camera);
-  const Rigid3d camera0_from_camera = config.rig.cameras.front().rig_from_camera.Inverse() *
-                                      config.rig.cameras[camera].rig_from_camera;
+  const Rigid3d camera0_from_camera = config.rig.CameraFromCamera(0, camera);
   const double time = TimeOf(frame, camera);
   FrameState state;
   state.world_from_camera =
@@ -328,8 +327,7 @@ SimConfig Scenario::CameraConfig(size_t camera) const {
   view.rig = config.rig.Reordered(camera, camera);
   view.lasers = {config.lasers.at(camera)};
   view.lasers.front().rig_laser = 0;
-  const Rigid3d camera_from_camera0 = config.rig.cameras[camera].rig_from_camera.Inverse() *
-                                      config.rig.cameras.front().rig_from_camera;
+  const Rigid3d camera_from_camera0 = config.rig.CameraFromCamera(camera, 0);
   for (FloodLight& flood : view.floods) {
     flood.camera_from_light = camera_from_camera0 * flood.camera_from_light;
   }

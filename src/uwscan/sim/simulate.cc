@@ -103,9 +103,7 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
   // carried over through the rig.
   InsOptions ins;
   ins.seed = scenario.seed + 1000;
-  const Rigid3d camera0_from_camera =
-      scenario.config.rig.cameras.front().rig_from_camera.Inverse() *
-      scenario.config.rig.cameras[camera].rig_from_camera;
+  const Rigid3d camera0_from_camera = scenario.config.rig.CameraFromCamera(0, camera);
   std::vector<StampedPose> log =
       SimulateIns(trajectory, 0.0, scenario.TimeOf(std::max(0, scenario.frames - 1)), ins);
   for (StampedPose& pose : log)
