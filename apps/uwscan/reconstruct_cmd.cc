@@ -15,6 +15,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto no_compensation = std::make_shared<bool>(false);
   auto keep_static = std::make_shared<bool>(false);
   auto no_difference = std::make_shared<bool>(false);
+  auto no_line_ranges = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
   auto main_camera_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
@@ -61,6 +62,9 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--no-difference-image", *no_difference,
                 "interleaved scans: detect the line in the laser-on frame itself, not in its "
                 "difference to the laser-off frame before it");
+  cmd->add_flag("--no-line-ranges", *no_line_ranges,
+                "scale only from the accumulated laser surface, not also from the map points "
+                "the laser line meets in each keyframe (thesis §5.4; for comparison)");
   cmd->add_flag("--async-ba", job->self_referenced.odometry.async_bundle_adjustment,
                 "windowed BA on a second thread (faster; results then depend on thread timing)");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
@@ -72,6 +76,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->texture_filter = !*keep_static;
     job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
+    job->self_referenced.use_line_ranges = !*no_line_ranges;
     job->other_cameras = !*main_camera_only;
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {

@@ -12,6 +12,7 @@ namespace uwscan::fusion {
 void SelfReferencedOptions::Check() const {
   odometry.Check();
   surface.Check();
+  line_ranges.Check();
   UWS_CHECK(mask_dilation_px >= 0 && max_init_frames >= 2 && init_attempt_every >= 1 &&
                 max_tracking_width >= 0 && init_refinements >= 0,
             "self-referenced odometry: invalid options");
@@ -303,9 +304,18 @@ void SelfReferencedPoseProvider::Restart() {
 }
 
 std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
-  const vo::FrameResult result =
-      odometry_->ProcessFrame(frame.input.image, frame.mask, frame.input.timestamp_s);
+  vo::Odometry::LineRanges line_ranges;
+  if (options_.use_line_ranges && !frame.profile.points.empty()) {
+    line_ranges = [this, &frame](const Rigid3d& camera_from_world) {
+      return LineRangeConstraints(tracking_camera_, odometry_->map(), camera_from_world,
+                                  frame.profile, options_.line_ranges);
+    };
+  }
+  const vo::FrameResult result = odometry_->ProcessFrame(frame.input.image, frame.mask,
+                                                         frame.input.timestamp_s, {}, line_ranges);
   if (result.keyframe) ++keyframes_;
+  line_range_hits_ += result.line_ranges;
+  if (result.keyframe) line_ranges_ += result.line_ranges;
   tracks_cut_by_line_ += result.tracking.lost_mask;
   tracks_reacquired_ += result.tracking.reacquired;
   if (!result.world_from_camera) {
@@ -355,6 +365,8 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"implausible_poses_rejected", implausible_},
           {"tracks_cut_by_laser_line", tracks_cut_by_line_},
           {"tracks_reacquired", tracks_reacquired_},
+          {"line_range_constraints", line_ranges_},
+          {"line_range_hits", line_range_hits_},
           {"surface_points", surface_ ? surface_->size() : 0}};
 }
 

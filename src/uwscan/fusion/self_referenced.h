@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 
+#include "uwscan/fusion/line_ranges.h"
 #include "uwscan/fusion/pose_provider.h"
 #include "uwscan/fusion/pose_smoother.h"
 #include "uwscan/fusion/surface_model.h"
@@ -24,6 +25,10 @@ namespace uwscan::fusion {
 struct SelfReferencedOptions {
   vo::OdometryOptions odometry;
   SurfaceModelOptions surface;
+  // Range constraints where map points meet the laser line in a keyframe
+  // (line_ranges.h), besides those from the accumulated surface.
+  bool use_line_ranges = true;
+  LineRangeOptions line_ranges;
   // The odometry tracks the passive image halved until it is at most this
   // wide (0: full resolution), with the camera scaled along; the laser is
   // still detected and triangulated at full resolution. Features at 640 px
@@ -118,8 +123,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // Statistics.
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
-  long range_constraints_ = 0;
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
+  // Range constraints where map points met the laser line (all frames; in keyframes).
+  long line_range_hits_ = 0, line_ranges_ = 0;
 };
 
 }  // namespace uwscan::fusion

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct RangeConstraint {
   uint64_t point_id = 0;
   double range_m = 0.0;
   double sigma_m = 0.001;
+  // The ray's origin (camera frame) when the keyframe has no observation of
+  // the point to take it from: a point where the laser line crosses it is
+  // masked for tracking (thesis §5.4, the map point meeting the line).
+  std::optional<Eigen::Vector3d> ray_origin_camera;
 };
 
 struct MapPoint {

@@ -100,7 +100,8 @@ Odometry::Odometry(const Camera& camera, const OdometryOptions& options)
 Odometry::~Odometry() { DiscardBundleAdjustment(); }
 
 FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
-                                   const std::vector<RangeConstraint>& ranges) {
+                                   const std::vector<RangeConstraint>& ranges,
+                                   const LineRanges& line_ranges) {
   const auto start = Clock::now();
   const double cpu_start = ThreadCpuSeconds();
   FrameResult result;
@@ -128,7 +129,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   result.tracking_cpu_s = ThreadCpuSeconds() - cpu_start;
 
   if (state_ == State::kTracking) {
-    Track(mask, ranges, &result);
+    Track(mask, ranges, line_ranges, &result);
   } else {
     Initialize(mask, &result);
   }
@@ -321,8 +322,8 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   for (const auto& t : tracker_.tracks()) map_.keyframes[1].observations[t.id] = t.pixel;
 }
 
-void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ranges,
-                     FrameResult* result) {
+void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& passed_ranges,
+                     const LineRanges& line_ranges, FrameResult* result) {
   if (options_.async_bundle_adjustment) MergeBundleAdjustment(/*wait=*/false);
   std::vector<Ray> rays;
   std::vector<Eigen::Vector3d> points;
@@ -412,6 +413,12 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
   result->status = FrameStatus::kTracked;
   result->world_from_camera = camera_from_world.Inverse();
 
+  std::vector<RangeConstraint> ranges = passed_ranges;
+  if (line_ranges) {
+    const std::vector<RangeConstraint> found = line_ranges(camera_from_world);
+    ranges.insert(ranges.end(), found.begin(), found.end());
+    result->line_ranges = int(found.size());
+  }
   // Keyframe by parallax to the last keyframe, or when the map thins out.
   const Keyframe& last = map_.keyframes.back();
   std::vector<double> flow;
@@ -424,7 +431,7 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& ra
        result->frame_index - last.frame_index >= options_.max_frames_between_keyframes) ||
       Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
       inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
-      (options_.keyframe_on_range_constraints && !ranges.empty());
+      (options_.keyframe_on_range_constraints && !passed_ranges.empty());
   if (keyframe) AddKeyframe(camera_from_world, mask, ranges, result);
 }
 

@@ -212,6 +212,67 @@ TEST(Odometry, RangeConstraintsMakeTheTrajectoryMetric) {
   EXPECT_NEAR(m.alignment.scale, 1.0, 0.02);
 }
 
+// Thesis §5.4: where a map point meets the laser line in a frame, the
+// laser measures its range there. The line masks the point for tracking, so
+// the constraint comes without an observation, with its ray's origin. Given
+// such ranges through ProcessFrame's line_ranges, a map started at half the
+// true scale (prior 1 m instead of 2 m) comes out metric; without them it
+// keeps the prior's scale.
+TEST(Odometry, RangesWhereMapPointsMeetTheLineMakeTheTrajectoryMetric) {
+  const Camera camera = testing::ScaledCamera(Camera::Flat1(), 0.25);
+  const TexturedTerrain terrain(SmallTerrain());
+  PlaneRenderer renderer(camera, terrain);
+  const auto poses = testing::TransectPoses(60, 1.5, 2.0);
+  testing::RenderOptions render;
+  render.laser_column_px = 0.5 * camera.width;
+  const cv::Mat mask = renderer.LaserMask(render);
+  auto run = [&](bool with_line, int* constraints) {
+    OdometryOptions options;
+    options.initial_median_depth_m = 1.0;
+    Odometry odometry(camera, options);
+    std::vector<StampedPose> late, truth;
+    for (size_t i = 0; i < poses.size(); ++i) {
+      const cv::Mat image = renderer.Render(poses[i], render);
+      Odometry::LineRanges line;
+      if (with_line) {
+        line = [&](const Rigid3d& camera_from_world) {
+          std::vector<RangeConstraint> ranges;
+          for (const auto& [id, point] : odometry.map().points) {
+            const auto pixel = camera.Project(camera_from_world * point.position_world);
+            if (!pixel || !camera.InImage(*pixel)) continue;
+            const double line_u =
+                render.laser_column_px + render.laser_slope * (pixel->y() - 0.5 * camera.height);
+            if (std::abs(pixel->x() - line_u) > 1.0) continue;
+            const auto scene = renderer.PointAt(poses[i], *pixel);
+            const auto ray = camera.BackProject(*pixel);
+            if (!scene || !ray) continue;
+            RangeConstraint range{id, (poses[i].Inverse() * *scene - ray->origin).norm(), 0.002};
+            range.ray_origin_camera = ray->origin;
+            ranges.push_back(range);
+          }
+          return ranges;
+        };
+      }
+      const FrameResult r = odometry.ProcessFrame(image, mask, 0.1 * double(i), {}, line);
+      if (r.keyframe) *constraints += r.line_ranges;
+      if (r.world_from_camera && i >= 30) late.push_back({0.1 * double(i), *r.world_from_camera});
+      truth.push_back({0.1 * double(i), poses[i]});
+    }
+    TrajectoryMetricsOptions metrics_options;
+    metrics_options.max_time_difference_s = 0.011;
+    return ComputeTrajectoryMetrics(late, truth, metrics_options).alignment.scale;
+  };
+  int with_constraints = 0, without_constraints = 0;
+  const double scale_with = run(true, &with_constraints);
+  const double scale_without = run(false, &without_constraints);
+  printf("scale of the estimate (1 = metric): %.4f with %d line ranges, %.4f without\n",
+         scale_with, with_constraints, scale_without);
+  EXPECT_GT(with_constraints, 20);
+  EXPECT_EQ(without_constraints, 0);
+  EXPECT_NEAR(scale_with, 1.0, 0.02);
+  EXPECT_GT(std::abs(scale_without - 1.0), 0.2);
+}
+
 // Map points that took an extrapolated depth (a dominant plane where the
 // laser has not swept yet) are measured again once the surface there is
 // measured, and moved when they were wrong: here the extrapolation puts

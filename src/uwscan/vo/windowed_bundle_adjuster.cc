@@ -85,14 +85,27 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
           loss, pose.q, pose.t, point);
       residual_refs.push_back({id, point_id, k});
     }
+  }
+  // Range constraints only on points some keyframe of the window sees: a
+  // range alone leaves a point free across its ray.
+  for (int k = 0; k < count; ++k) {
+    Keyframe& kf = map->keyframes[size_t(first + k)];
+    PoseBlock& pose = poses[size_t(k)];
     for (const RangeConstraint& range : kf.range_constraints) {
       auto it = map->points.find(range.point_id);
-      auto obs = kf.observations.find(range.point_id);
-      if (it == map->points.end() || obs == kf.observations.end()) continue;
-      const std::optional<Ray> ray = camera.BackProject(obs->second);
-      if (!ray) continue;
+      if (it == map->points.end() || !window.points.count(range.point_id)) continue;
+      Eigen::Vector3d origin;
+      if (range.ray_origin_camera) {
+        origin = *range.ray_origin_camera;
+      } else {
+        auto obs = kf.observations.find(range.point_id);
+        if (obs == kf.observations.end()) continue;
+        const std::optional<Ray> ray = camera.BackProject(obs->second);
+        if (!ray) continue;
+        origin = ray->origin;
+      }
       const ceres::ResidualBlockId id =
-          problem.AddResidualBlock(RangeCost::Create(ray->origin, range.range_m, range.sigma_m),
+          problem.AddResidualBlock(RangeCost::Create(origin, range.range_m, range.sigma_m),
                                    range_loss, pose.q, pose.t, it->second.position_world.data());
       range_refs.push_back({id, range.point_id, k});
       ++summary.range_residuals;

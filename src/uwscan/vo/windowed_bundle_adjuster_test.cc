@@ -171,6 +171,52 @@ TEST(WindowedBundleAdjustment, RangeConstraintsFixTheScale) {
   EXPECT_NEAR(BaselineRatio(s), 1.0, 1e-3);
 }
 
+// Thesis §5.4: where the laser line meets a map point, the keyframe has no
+// observation of it (the line masks it) but the range along the ray of the
+// pixel it projects to; that ray's origin comes with the constraint. A
+// point no keyframe of the window sees gets no range (it would be free
+// across its ray).
+TEST(WindowedBundleAdjustment, RangesOfPointsUnderTheLineFixTheScale) {
+  const Camera camera = DeepPortCamera();
+  Synthetic s = MakeWindow(camera, 0.0, 9);
+  for (Keyframe& kf : s.map.keyframes) kf.camera_from_world.translation *= 0.9;
+  for (auto& [id, p] : s.map.points) p.position_world *= 0.9;
+  const uint64_t unseen = 100000;
+  s.map.points[unseen] = {unseen, Eigen::Vector3d(0.3, 0.1, 1.8), 0};
+  std::unordered_map<uint64_t, int> seen_by;
+  for (const Keyframe& kf : s.map.keyframes) {
+    for (const auto& [id, pixel] : kf.observations) ++seen_by[id];
+  }
+  for (int k = 0; k < 5; ++k) {
+    Keyframe& kf = s.map.keyframes[size_t(k)];
+    std::vector<uint64_t> under_line;
+    for (const auto& [id, pixel] : kf.observations) {  // other keyframes still see them
+      if (under_line.size() < 10 && id % 5 == uint64_t(k) && seen_by[id] > 1)
+        under_line.push_back(id);
+    }
+    for (uint64_t id : under_line) {
+      const Eigen::Vector3d p = s.truth[size_t(k)] * s.points.at(id);
+      const auto ray = camera.BackProject(*camera.Project(p));
+      ASSERT_TRUE(ray.has_value());
+      kf.observations.erase(id);
+      RangeConstraint range{id, (p - ray->origin).norm(), 0.001};
+      range.ray_origin_camera = ray->origin;
+      kf.range_constraints.push_back(range);
+    }
+    RangeConstraint unseen_range{unseen, 2.0, 0.001};
+    unseen_range.ray_origin_camera = Eigen::Vector3d::Zero();
+    kf.range_constraints.push_back(unseen_range);
+    // Without an origin and without an observation there is no ray.
+    kf.range_constraints.push_back({under_line.front(), 2.0, 0.001});
+  }
+  BundleAdjustmentOptions options;
+  options.max_iterations = 50;
+  options.max_solver_time_s = 10;
+  const BundleAdjustmentSummary summary = AdjustWindow(camera, options, &s.map);
+  EXPECT_EQ(summary.range_residuals, 50);
+  EXPECT_NEAR(BaselineRatio(s), 1.0, 1e-3);
+}
+
 // Thesis §5.4: range constraints under a Cauchy loss, and those still far
 // off after the solve removed. Ten of the 50 constraints claim ranges 30 %
 // too long (a feature in front of the surface the laser measured): the
