@@ -2,8 +2,10 @@
 // odometry on the passive features of the same images that carry the laser,
 // with the laser line masked out, the features coloured by the LED (the red
 // channel of a raw Bayer frame when the laser is green, §5.5), and metric
-// depth from the laser: the swept surface gives features their range, which
-// enters the windowed bundle adjustment as range constraints. The map is
+// depth from the laser: the swept surface gives features their range, and
+// each keyframe's profile the range of the map points the line meets there
+// (line_ranges.h); both enter the windowed bundle adjustment as range
+// constraints. The map is
 // started from the laser surface too, so a hovering platform (millimetre
 // motion, no baseline for two-view initialisation) is tracked from the
 // first frames.
