@@ -51,6 +51,9 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "the odometry tracks the image halved until it is at most this wide (0 = full "
                   "resolution)")
       ->capture_default_str();
+  cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
+                  "keyframes in the odometry's windowed bundle adjustment")
+      ->capture_default_str();
   cmd->add_option("--smoothing-half-window", job->self_referenced.smoothing_half_window,
                   "poses smoothed over +-N frames (quadratic fit), output N frames late (0 = raw)")
       ->capture_default_str();
