@@ -165,6 +165,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
     Emit(Track(held), held.input.timestamp_s, &updates);
     return updates;
   }
+  GuessHeldMotion(&held);
   held_.push_back(std::move(held));
   if (static_cast<int>(held_.size()) % options_.init_attempt_every != 0 && held_.size() > 1)
     return {};
@@ -246,6 +247,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     }
   }
   running_ = true;
+  guess_odometry_.reset();
   const Held& first = held_.front();
   last_time_s_ = first.input.timestamp_s;
   if (init_frame_ < 0) init_frame_ = first.input.index;
@@ -266,6 +268,52 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     Emit(Track(h), h.input.timestamp_s, &updates);
   }
   return updates;
+}
+
+void SelfReferencedPoseProvider::GuessHeldMotion(Held* held) {
+  if (!options_.guess_held_motion || guess_failed_) return;
+  if (!guess_odometry_) {
+    if (held->profile.points.size() < 10) return;  // no range for the scale prior yet
+    std::vector<double> ranges;
+    for (const auto& p : held->profile.points) ranges.push_back(p.point_in_camera.norm());
+    std::nth_element(ranges.begin(), ranges.begin() + long(ranges.size() / 2), ranges.end());
+    vo::OdometryOptions options = options_.odometry;
+    options.surface = nullptr;
+    options.initial_median_depth_m = ranges[ranges.size() / 2];
+    guess_odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, options);
+    guess_frames_ = 0;
+  }
+  const vo::FrameResult result =
+      guess_odometry_->ProcessFrame(held->input.image, held->mask, held->input.timestamp_s);
+  held->guess_index = guess_frames_++;
+  if (guess_odometry_->num_maps() > 1 ||
+      (result.status != vo::FrameStatus::kInitializing && !result.world_from_camera)) {
+    guess_odometry_.reset();  // lost: the guesses so far stand, no more
+    guess_failed_ = true;
+    return;
+  }
+  if (!result.world_from_camera) return;
+  held->guess_world_from_camera = *result.world_from_camera;
+  for (const auto& [index, pose] : result.earlier_poses) {
+    for (Held& h : held_) {
+      if (h.guess_index == index) h.guess_world_from_camera = pose;
+    }
+  }
+  // Relative to the first held frame, which stands at the origin.
+  const Held& first = held_.empty() ? *held : held_.front();
+  if (!first.guess_world_from_camera) return;
+  const Rigid3d origin = last_pose_.value_or(Rigid3d());
+  const Rigid3d world_from_guess = origin * first.guess_world_from_camera->Inverse();
+  bool placed_again = false;
+  for (Held& h : held_) {
+    if (h.guess_world_from_camera && !h.pose_guess) {
+      h.pose_guess = world_from_guess * *h.guess_world_from_camera;
+      placed_again = true;
+    }
+  }
+  held->pose_guess = world_from_guess * *held->guess_world_from_camera;
+  // Frames already in the held frames' surface were placed otherwise.
+  if (placed_again) init_surface_.reset();
 }
 
 Rigid3d SelfReferencedPoseProvider::PoseGuess(size_t i, const Rigid3d& origin) const {
@@ -301,6 +349,8 @@ void SelfReferencedPoseProvider::Restart() {
   surface_.reset();
   init_surface_.reset();
   held_.clear();
+  guess_odometry_.reset();
+  guess_failed_ = false;
 }
 
 std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {

@@ -53,6 +53,10 @@ struct SelfReferencedOptions {
   // Times the held frames are tracked on the starting surface and their
   // profiles placed again with those poses before tracking goes on.
   int init_refinements = 2;
+  // Place the held frames' profiles with a plain odometry's poses before
+  // the map starts (GuessHeldMotion); on a hover it finds no parallax and
+  // changes nothing.
+  bool guess_held_motion = true;
   void Check() const;
 };
 
@@ -87,7 +91,17 @@ class SelfReferencedPoseProvider : public PoseProvider {
     // Where tracking put it in an initialisation attempt (relative to the
     // first held frame), for placing its profile in the next attempt.
     std::optional<Rigid3d> pose_guess;
+    // Its pose from the plain odometry of the held frames (guess_odometry_),
+    // in that odometry's own world.
+    int guess_index = -1;
+    std::optional<Rigid3d> guess_world_from_camera;
   };
+  // While frames are held: a plain (two-view started) odometry on them, its
+  // scale prior the laser's median range. A fixed laser on a moving
+  // platform draws the same line in every held frame, so placed with the
+  // first pose their profiles never spread across the line and the surface
+  // never gets its plane; placed where this odometry puts them, they do.
+  void GuessHeldMotion(Held* held);
   // On the first frame: the passive colour straight from the raw mosaic if
   // the frames are raw and tracking is at half resolution or less.
   void ChooseTrackedImage(const cv::Mat& frame);
@@ -118,6 +132,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   std::unique_ptr<SurfaceModel> init_surface_;
   size_t init_surface_frames_ = 0;
   std::deque<Held> held_;
+  std::unique_ptr<vo::Odometry> guess_odometry_;
+  int guess_frames_ = 0;
+  bool guess_failed_ = false;
   bool running_ = false;
   std::optional<Rigid3d> last_pose_;
   double last_time_s_ = 0.0;

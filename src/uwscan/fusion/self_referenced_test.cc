@@ -12,6 +12,7 @@
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/sim/simulate.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan::fusion {
 namespace {
@@ -42,6 +43,53 @@ ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed
 // compensation, checked against the simulator's truth.
 // Also with the odometry on a half-size image (the path taken at
 // 1280x960 by default): the red samples of the raw mosaic at half size.
+// A fixed laser on a platform moving along a 20 m transect (5 cm between
+// frames at 600 frames): the first 40 frames only. Held until the map
+// starts, their profiles placed with the first pose lie on one line and
+// never span the sea floor's plane, so no frame ever got a pose; placed
+// where a plain odometry of the held frames puts them, they do at once.
+TEST(SelfReferencedPoseProvider, AShortTransectWithAFixedLaserStarts) {
+  const fs::path root =
+      fs::temp_directory_path() / ("uwscan_fusion_transect_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  sim::ScenarioOptions options;
+  options.width = 640;
+  options.height = 480;
+  options.frames = 600;
+  options.seed = 23;  // a sea floor whose relief gives the stacked profiles no plane
+  options.turbidity = "coastal";
+  sim::Scenario scenario = sim::MakeScenario("seabed-transect", options);
+  scenario.frames = 40;  // the first 2 m at the 600-frame rate
+  sim::WriteDataset(scenario, root / "data");
+  ReconstructJob job;
+  job.dataset = root / "data";
+  job.quiet = true;
+  job.out = root / "without";
+  job.self_referenced.guess_held_motion = false;
+  int without = 0;
+  try {
+    const ReconstructReport unguessed = RunReconstruct(job);
+    without = unguessed.frames - unguessed.frames_without_pose;
+  } catch (const Error&) {
+    without = 0;  // "no frame got a pose"
+  }
+  job.out = root / "with";
+  job.self_referenced.guess_held_motion = true;
+  const ReconstructReport report = RunReconstruct(job);
+  printf("frames with a pose: %d of 40 without the guess, %d with\n", without,
+         report.frames - report.frames_without_pose);
+  EXPECT_LT(without, 20);
+  EXPECT_EQ(report.frames_without_pose, 0);
+  const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+  const SurfaceAccuracy* floor = evaluation.compensated.Surface("floor");
+  ASSERT_TRUE(floor);
+  printf("point error %.1f mm, floor distance error %.2f %%\n",
+         1e3 * evaluation.compensated.point_error_rms_m, floor->distance_error_mean_pct);
+  EXPECT_LT(evaluation.compensated.point_error_rms_m, 0.02);
+  EXPECT_LT(floor->distance_error_mean_pct, 1.0);
+  fs::remove_all(root);
+}
+
 class SelfReferencedHover : public ::testing::TestWithParam<int> {};
 
 TEST_P(SelfReferencedHover, CompensatesHoverMotion) {

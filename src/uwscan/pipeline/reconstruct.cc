@@ -51,12 +51,13 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the frames with the laser on (turbid or dark water, the line out "
                        "of view or too weak): those frames add nothing to the cloud");
   }
-  long main_points = points;  // the main camera's
+  long main_points = points;  // the main camera's, placed: of frames with a pose
   for (const auto& camera : other_cameras) main_points -= camera.points;
-  if (frames_with_line > 0 && scan_lines > 0 &&
-      static_cast<double>(main_points) / frames_with_line < 0.5 * scan_lines) {
+  const int placed_frames = frames_with_line - frames_without_pose;
+  if (placed_frames > 0 && scan_lines > 0 &&
+      static_cast<double>(main_points) / placed_frames < 0.5 * scan_lines) {
     warnings.push_back(
-        "the profiles are short: " + std::to_string(main_points / std::max(frames_with_line, 1)) +
+        "the profiles are short: " + std::to_string(main_points / placed_frames) +
         " points per frame of " + std::to_string(scan_lines) +
         " scan lines (the line fades into the water or leaves the scene)");
   }

@@ -342,6 +342,14 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   EXPECT_NE(warnings[5].find("rejected"), std::string::npos) << warnings[5];
   const nlohmann::json json = turbid.ToJson();
   EXPECT_EQ(json["warnings"].size(), 6u);
+
+  // No frame placed: the profiles are not short, there are none in the cloud.
+  ReconstructReport unposed = good;
+  unposed.points = 0;
+  unposed.frames_without_pose = 200;
+  const auto unposed_warnings = unposed.Warnings();
+  ASSERT_FALSE(unposed_warnings.empty());
+  for (const auto& w : unposed_warnings) EXPECT_EQ(w.find("profiles are short"), std::string::npos) << w;
 }
 
 }  // namespace
