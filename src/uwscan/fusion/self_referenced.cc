@@ -364,8 +364,7 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
   const vo::FrameResult result = odometry_->ProcessFrame(frame.input.image, frame.mask,
                                                          frame.input.timestamp_s, {}, line_ranges);
   if (result.keyframe) ++keyframes_;
-  line_range_hits_ += result.line_ranges;
-  if (result.keyframe) line_ranges_ += result.line_ranges;
+  line_ranges_ += result.line_ranges;
   tracks_cut_by_line_ += result.tracking.lost_mask;
   tracks_reacquired_ += result.tracking.reacquired;
   if (!result.world_from_camera) {
@@ -416,7 +415,6 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"tracks_cut_by_laser_line", tracks_cut_by_line_},
           {"tracks_reacquired", tracks_reacquired_},
           {"line_range_constraints", line_ranges_},
-          {"line_range_hits", line_range_hits_},
           {"surface_points", surface_ ? surface_->size() : 0}};
 }
 

@@ -143,8 +143,7 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
-  // Range constraints where map points met the laser line (all frames; in keyframes).
-  long line_range_hits_ = 0, line_ranges_ = 0;
+  long line_ranges_ = 0;  // range constraints where map points met the laser line
 };
 
 }  // namespace uwscan::fusion

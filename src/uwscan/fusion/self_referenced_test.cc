@@ -101,7 +101,7 @@ TEST_P(SelfReferencedHover, CompensatesHoverMotion) {
   EXPECT_EQ(report.pose_source, "self-referenced visual odometry");
   EXPECT_LT(report.frames_without_pose, 20);
   // The line meets map points on the way (line_ranges.h).
-  EXPECT_GT(report.pose_details["line_range_hits"].get<long>(), 0);
+  EXPECT_GT(report.pose_details["line_range_constraints"].get<long>(), 0);
   const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
   const double compensated = evaluation.compensated.point_error_rms_m;
   const double uncompensated = evaluation.uncompensated.point_error_rms_m;

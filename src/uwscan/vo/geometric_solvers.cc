@@ -123,14 +123,16 @@ AbsolutePoseResult EstimateAbsolutePose(const std::vector<Ray>& rays_camera,
   opengv::sac::Ransac<Problem> ransac;
   ransac.threshold_ = 1.0 - std::cos(options.threshold_rad);
   ransac.max_iterations_ = options.max_iterations;
-  std::unique_ptr<opengv::absolute_pose::AbsoluteAdapterBase> adapter;
+  // On the stack: OpenGV's adapters free with Eigen's aligned free, which
+  // does not match the plain new of std::make_unique (valgrind).
+  std::optional<opengv::absolute_pose::NoncentralAbsoluteAdapter> noncentral;
+  std::optional<opengv::absolute_pose::CentralAbsoluteAdapter> central;
   if (options.solver == AbsolutePoseSolver::kGP3P) {
-    adapter = std::make_unique<opengv::absolute_pose::NoncentralAbsoluteAdapter>(
-        bearings, correspondences, points, offsets, rotations);
-    ransac.sac_model_ = std::make_shared<Problem>(*adapter, Problem::GP3P, false);
+    noncentral.emplace(bearings, correspondences, points, offsets, rotations);
+    ransac.sac_model_ = std::make_shared<Problem>(*noncentral, Problem::GP3P, false);
   } else {
-    adapter = std::make_unique<opengv::absolute_pose::CentralAbsoluteAdapter>(bearings, points);
-    ransac.sac_model_ = std::make_shared<Problem>(*adapter, Problem::KNEIP, false);
+    central.emplace(bearings, points);
+    ransac.sac_model_ = std::make_shared<Problem>(*central, Problem::KNEIP, false);
   }
   if (!ransac.computeModel() || ransac.inliers_.size() < 4) return result;
   // OpenGV returns the viewpoint in the world: [R | c] = world_from_camera.

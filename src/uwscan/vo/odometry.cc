@@ -413,12 +413,6 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& pa
   result->status = FrameStatus::kTracked;
   result->world_from_camera = camera_from_world.Inverse();
 
-  std::vector<RangeConstraint> ranges = passed_ranges;
-  if (line_ranges) {
-    const std::vector<RangeConstraint> found = line_ranges(camera_from_world);
-    ranges.insert(ranges.end(), found.begin(), found.end());
-    result->line_ranges = int(found.size());
-  }
   // Keyframe by parallax to the last keyframe, or when the map thins out.
   const Keyframe& last = map_.keyframes.back();
   std::vector<double> flow;
@@ -432,7 +426,14 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& pa
       Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
       inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
       (options_.keyframe_on_range_constraints && !passed_ranges.empty());
-  if (keyframe) AddKeyframe(camera_from_world, mask, ranges, result);
+  if (!keyframe) return;
+  std::vector<RangeConstraint> ranges = passed_ranges;
+  if (line_ranges) {
+    const std::vector<RangeConstraint> found = line_ranges(camera_from_world);
+    ranges.insert(ranges.end(), found.begin(), found.end());
+    result->line_ranges = int(found.size());
+  }
+  AddKeyframe(camera_from_world, mask, ranges, result);
 }
 
 void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,

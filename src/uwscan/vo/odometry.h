@@ -115,7 +115,7 @@ struct FrameResult {
   int tracks = 0;       // features tracked into this frame
   int map_matches = 0;  // of them with a map point
   int inliers = 0;      // pose inliers
-  int line_ranges = 0;  // range constraints ProcessFrame's line_ranges found
+  int line_ranges = 0;  // keyframes: range constraints ProcessFrame's line_ranges found
   std::string message;  // why a frame was lost or rejected
   // Poses of earlier frames that become known with this one (the
   // initialisation reference frame): frame_index -> world_from_camera.
@@ -142,14 +142,13 @@ class Odometry {
   // non-zero = ignore (e.g. laser::LaserDetection::mask). `ranges` refer to
   // map point ids seen in this frame. Never throws on bad image content;
   // throws uwscan::Error for a mask of the wrong size/type (a caller bug).
-  // `line_ranges`, when set, is called once the frame's pose is known
-  // (camera_from_world) and returns range constraints measured in this
+  // `line_ranges`, when set, is called when the frame becomes a keyframe
+  // (parallax, a thinning map, max_frames_between_keyframes), with its pose
+  // (camera_from_world), and returns range constraints measured in this
   // frame for map points it finds there (thesis §5.4: map points re-projected
-  // into the frame where they meet the laser line). They are kept if the
-  // frame becomes a keyframe for another reason (parallax, a thinning map,
-  // max_frames_between_keyframes) but do not make one: on a hover, a
-  // keyframe at every frame the line meets the map tripled the trajectory
-  // error (tank seed 9: ATE 1.0 -> 3.1 mm).
+  // into the frame where they meet the laser line). They do not make a
+  // keyframe themselves: on a hover, a keyframe at every frame the line met
+  // the map tripled the trajectory error (tank seed 9: ATE 1.0 -> 3.1 mm).
   using LineRanges = std::function<std::vector<RangeConstraint>(const Rigid3d&)>;
   FrameResult ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
                            const std::vector<RangeConstraint>& ranges = {},
