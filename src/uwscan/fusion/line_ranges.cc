@@ -1,6 +1,7 @@
 #include "uwscan/fusion/line_ranges.h"
 
 #include <cmath>
+#include <utility>
 
 #include "uwscan/util/error.h"
 
@@ -48,9 +49,13 @@ std::vector<vo::RangeConstraint> LineRangeConstraints(const Camera& camera,
     if (!pixel) continue;
     const auto ray = camera.BackProject(*pixel);
     if (!ray) continue;
-    const Eigen::Vector3d to_laser = profile.points[best].point_in_camera - ray->origin;
-    const double range = to_laser.dot(ray->direction);
-    const double offset = (to_laser - range * ray->direction).norm();
+    // A laser point's range along the ray and its distance from it.
+    const auto along_ray = [&ray](const Eigen::Vector3d& p) {
+      const Eigen::Vector3d to_p = p - ray->origin;
+      const double along = to_p.dot(ray->direction);
+      return std::make_pair(along, (to_p - along * ray->direction).norm());
+    };
+    const auto [range, offset] = along_ray(profile.points[best].point_in_camera);
     if (!(range > 0) || offset > options.max_offset_m) continue;
     const double current = (in_camera - ray->origin).norm();
     if (std::abs(current - range) > options.max_relative_disagreement * range) continue;
@@ -60,9 +65,7 @@ std::vector<vo::RangeConstraint> LineRangeConstraints(const Camera& camera,
     const int n = static_cast<int>(profile.points.size());
     for (int j = std::max(0, int(best) - options.slope_neighbours);
          j <= std::min(n - 1, int(best) + options.slope_neighbours); ++j) {
-      const Eigen::Vector3d to_neighbour = profile.points[size_t(j)].point_in_camera - ray->origin;
-      const double along = to_neighbour.dot(ray->direction);
-      const double lateral = (to_neighbour - along * ray->direction).norm();
+      const auto [along, lateral] = along_ray(profile.points[size_t(j)].point_in_camera);
       if (lateral > 1e-3) slope = std::max(slope, std::abs(along - range) / lateral);
     }
     vo::RangeConstraint constraint;

@@ -6,6 +6,7 @@
 
 #include "uwscan/io/image.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/statistics.h"
 
 namespace uwscan::fusion {
 
@@ -276,10 +277,9 @@ void SelfReferencedPoseProvider::GuessHeldMotion(Held* held) {
     if (held->profile.points.size() < 10) return;  // no range for the scale prior yet
     std::vector<double> ranges;
     for (const auto& p : held->profile.points) ranges.push_back(p.point_in_camera.norm());
-    std::nth_element(ranges.begin(), ranges.begin() + long(ranges.size() / 2), ranges.end());
     vo::OdometryOptions options = options_.odometry;
     options.surface = nullptr;
-    options.initial_median_depth_m = ranges[ranges.size() / 2];
+    options.initial_median_depth_m = Median(std::move(ranges));
     guess_odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, options);
     guess_frames_ = 0;
   }
