@@ -14,6 +14,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto poses = std::make_shared<std::string>();
   auto no_compensation = std::make_shared<bool>(false);
   auto keep_static = std::make_shared<bool>(false);
+  auto no_epipolar = std::make_shared<bool>(false);
   auto no_difference = std::make_shared<bool>(false);
   auto no_line_ranges = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
@@ -40,6 +41,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                 "keep line candidates that behave like scene texture (removed by default, "
                 "thesis §5.5: on servo scans those that stay put while the laser sweeps, with a "
                 "fixed laser those that move with the scene; a painted stripe or reflection)");
+  cmd->add_flag("--no-epipolar-texture", *no_epipolar,
+                "fixed laser: place earlier line candidates at the laser profile's depth only, "
+                "without matching them along their epipolar curves with a frame before (for "
+                "comparison)");
   cmd->add_flag("--keep-albedo-edges", *keep_albedo_edges,
                 "keep line points on an albedo edge (dropped by default: the edge pulls the "
                 "sub-pixel fit towards its bright side; judged in the flood-lit colour channel)");
@@ -77,6 +82,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     if (!poses->empty()) job->poses_file = *poses;
     job->motion_compensation = !*no_compensation;
     job->texture_filter = !*keep_static;
+    job->epipolar_texture = !*no_epipolar;
     job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
     job->self_referenced.use_line_ranges = !*no_line_ranges;

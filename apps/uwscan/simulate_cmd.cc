@@ -85,8 +85,8 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("--laser-power", args->laser_power, "laser power on the line (W)");
   cmd->add_option("--output", args->output, "bayer | rgb | mono (default bayer)");
   cmd->add_option("--bits", args->bits, "8 | 12 | 16 bit quantisation (default 8)");
-  cmd->add_option("--port-gap-mm", args->port_gap_mm, "aquarium: lens-to-window gap (mm)")
-      ->capture_default_str();
+  cmd->add_option("--port-gap-mm", args->port_gap_mm,
+                  "lens-to-window gap (mm; aquarium 1, scanner scenarios 7)");
   cmd->add_option("--port-tilt-deg", args->port_tilt_deg, "aquarium: window tilt (deg)")
       ->capture_default_str();
   cmd->add_option("--laser-tilt-deg", args->laser_tilt_deg,

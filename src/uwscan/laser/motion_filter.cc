@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "uwscan/util/error.h"
 
@@ -13,6 +14,10 @@ void MotionFilterOptions::Check() const {
                 tolerance_of_shift >= 0.0 && tolerance_of_shift < 0.5 && line_search >= 0 &&
                 depth_search_lines >= 0 && max_prediction_frames >= 1,
             "motion filter: invalid options");
+  UWS_CHECK(epipolar_lag_frames >= 1 && epipolar_tolerance_px > 0.0 && epipolar_samples >= 2 &&
+                near_factor > 0.0 && near_factor <= 1.0 && far_factor >= 1.0 &&
+                min_parallax_px >= 0.0,
+            "motion filter: invalid epipolar options");
 }
 
 MotionFilter::MotionFilter(const Camera& camera, const MotionFilterOptions& options)
@@ -49,12 +54,12 @@ std::optional<Rigid3d> MotionFilter::PredictPose(double timestamp_s) const {
 void MotionFilter::Begin(int frame, double timestamp_s) {
   frame_ = frame;
   timestamp_s_ = timestamp_s;
-  while (!history_.empty() &&
-         frame - history_.front().frame >
-             std::max(options_.max_lag_frames, options_.max_prediction_frames + 1)) {
-    history_.pop_front();
-  }
+  const int keep =
+      std::max(options_.max_lag_frames + (options_.epipolar ? options_.epipolar_lag_frames : 0),
+               options_.max_prediction_frames + 1);
+  while (!history_.empty() && frame - history_.front().frame > keep) history_.pop_front();
   references_.clear();
+  epipolar_matches_ = 0;
   const int lines = options_.scan_rows ? camera_.height : camera_.width;
   moved_.resize(static_cast<size_t>(lines));
   for (auto& on_line : moved_) on_line.clear();  // keeps their memory from frame to frame
@@ -63,23 +68,28 @@ void MotionFilter::Begin(int frame, double timestamp_s) {
   const Rigid3d camera_from_world = world_from_camera->Inverse();
   std::vector<std::pair<int, Moved>> moved;
   std::vector<double> shifts;
-  for (const Past& past : history_) {
+  for (Past& past : history_) {
     if (!past.world_from_camera || frame - past.frame > options_.max_lag_frames ||
         past.points.empty()) {
       continue;
     }
+    if (options_.epipolar && !past.epipolar_done) MatchEpipolar(&past);
     const Rigid3d now_from_past = camera_from_world * *past.world_from_camera;
     moved.clear();
     shifts.clear();
+    int matches = 0;
     for (size_t i = 0; i < past.points.size(); ++i) {
+      if (!past.points[i].allFinite()) continue;
       const auto pixel = camera_.Project(now_from_past * past.points[i], ProjectionMethod::kTaylor);
       if (!pixel) continue;
       const double line = options_.scan_rows ? pixel->y() : pixel->x();
       const double position = options_.scan_rows ? pixel->x() : pixel->y();
       const int l = static_cast<int>(std::lround(line));
       if (l < 0 || l >= lines) continue;
-      shifts.push_back(std::abs(position - past.positions[i]));
+      const double was = options_.scan_rows ? past.pixels[i].x() : past.pixels[i].y();
+      shifts.push_back(std::abs(position - was));
       moved.push_back({l, {static_cast<float>(position), 0.0f}});
+      matches += past.matched[i];
     }
     if (shifts.size() < 10) continue;
     auto middle = shifts.begin() + static_cast<long>(shifts.size() / 2);
@@ -93,7 +103,97 @@ void MotionFilter::Begin(int frame, double timestamp_s) {
       moved_[static_cast<size_t>(line)].push_back(m);
     }
     references_.push_back(past.frame);
+    epipolar_matches_ += matches;
   }
+}
+
+void MotionFilter::MatchEpipolar(Past* past) {
+  // The earliest earlier frame with a pose: the widest baseline.
+  const Past* earlier = nullptr;
+  for (const Past& e : history_) {
+    if (e.frame >= past->frame) break;
+    if (past->frame - e.frame > options_.epipolar_lag_frames || !e.world_from_camera ||
+        e.pixels.empty()) {
+      continue;
+    }
+    earlier = &e;
+    break;
+  }
+  if (!earlier) return;  // perhaps later, once its pose is known
+  past->epipolar_done = true;
+  const double near_m = options_.near_factor * std::min(past->min_depth_m, earlier->min_depth_m);
+  const double far_m = options_.far_factor * std::max(past->max_depth_m, earlier->max_depth_m);
+  if (!(near_m > 0.0) || !(far_m > near_m)) return;
+  const Rigid3d earlier_from_past =
+      earlier->world_from_camera->Inverse() * *past->world_from_camera;
+  for (size_t i = 0; i < past->pixels.size(); ++i) {
+    const auto ray = camera_.BackProject(past->pixels[i]);
+    if (!ray) continue;
+    const auto point = MatchAlongCurve(*ray, earlier_from_past, *earlier, near_m, far_m);
+    if (!point) continue;
+    past->points[i] = *point;
+    past->matched[i] = 1;
+    ++epipolar_matches_total_;
+  }
+}
+
+std::optional<Eigen::Vector3d> MotionFilter::MatchAlongCurve(const Ray& ray,
+                                                             const Rigid3d& earlier_from_past,
+                                                             const Past& earlier, double near_m,
+                                                             double far_m) const {
+  if (ray.direction.z() < 1e-6) return std::nullopt;
+  const auto along = [&](double depth_m) { return (depth_m - ray.origin.z()) / ray.direction.z(); };
+  // (position across the line, scan line) of a point of `past` in `earlier`.
+  const auto in_earlier = [&](const Eigen::Vector3d& point) -> std::optional<Eigen::Vector2d> {
+    const auto pixel = camera_.Project(earlier_from_past * point, ProjectionMethod::kTaylor);
+    if (!pixel) return std::nullopt;
+    return options_.scan_rows ? *pixel : Eigen::Vector2d(pixel->y(), pixel->x());
+  };
+  const auto far_end = in_earlier(ray.At(1e4));
+  if (!far_end) return std::nullopt;
+  const double tolerance = options_.epipolar_tolerance_px;
+  int match = -1;
+  std::optional<Eigen::Vector2d> previous;
+  for (int k = 0; k < options_.epipolar_samples; ++k) {
+    // Even steps in inverse depth: even steps along the curve.
+    const double w =
+        1.0 / far_m + (1.0 / near_m - 1.0 / far_m) * k / (options_.epipolar_samples - 1);
+    const auto current = in_earlier(ray.At(along(1.0 / w)));
+    if (current && previous) {
+      const Eigen::Vector2d a = *previous, ab = *current - *previous;
+      const double length2 = std::max(ab.squaredNorm(), 1e-12);
+      const int first = static_cast<int>(std::floor(std::min(a.y(), current->y()) - tolerance));
+      const int last = static_cast<int>(std::ceil(std::max(a.y(), current->y()) + tolerance));
+      auto it = std::lower_bound(earlier.by_line.begin(), earlier.by_line.end(),
+                                 Past::OnLine{first, -1e30f, 0});
+      for (; it != earlier.by_line.end() && it->line <= last; ++it) {
+        const Eigen::Vector2d& pixel = earlier.pixels[static_cast<size_t>(it->index)];
+        const Eigen::Vector2d c =
+            options_.scan_rows ? pixel : Eigen::Vector2d(pixel.y(), pixel.x());
+        const double t = std::clamp((c - a).dot(ab) / length2, 0.0, 1.0);
+        if ((a + t * ab - c).norm() > tolerance) continue;
+        if ((c - *far_end).norm() < options_.min_parallax_px) continue;  // depth not measured
+        if (match >= 0 && match != it->index) return std::nullopt;       // ambiguous
+        match = it->index;
+      }
+    }
+    previous = current;
+  }
+  if (match < 0) return std::nullopt;
+  // Triangulated: the midpoint of the two rays' closest approach.
+  const auto other = camera_.BackProject(earlier.pixels[static_cast<size_t>(match)]);
+  if (!other) return std::nullopt;
+  const Ray second = other->Transformed(earlier_from_past.Inverse());
+  const Eigen::Vector3d d1 = ray.direction.normalized(), d2 = second.direction.normalized();
+  const Eigen::Vector3d r = ray.origin - second.origin;
+  const double b = d1.dot(d2), den = 1.0 - b * b;
+  if (den < 1e-12) return std::nullopt;
+  const double s1 = (b * d2.dot(r) - d1.dot(r)) / den;
+  const double s2 = (d2.dot(r) - b * d1.dot(r)) / den;
+  if (!(s1 > 0.0) || !(s2 > 0.0)) return std::nullopt;
+  const Eigen::Vector3d point = 0.5 * (ray.origin + s1 * d1 + second.origin + s2 * d2);
+  if (point.z() < near_m || point.z() > far_m) return std::nullopt;
+  return point;
 }
 
 bool MotionFilter::MovesWithScene(double position, int line, bool strict) const {
@@ -122,14 +222,26 @@ void MotionFilter::End(const std::vector<LaserPoint>& candidates, const Profile&
   // Depth (camera z) of the profile per scan line; a candidate takes the
   // median of those within depth_search_lines.
   std::vector<std::pair<double, double>> depth_by_line;  // line, z
+  now.min_depth_m = std::numeric_limits<double>::infinity();
   for (const ProfilePoint& p : profile.points) {
-    depth_by_line.emplace_back(options_.scan_rows ? p.pixel.y() : p.pixel.x(),
-                               p.point_in_camera.z());
+    const double z = p.point_in_camera.z();
+    depth_by_line.emplace_back(options_.scan_rows ? p.pixel.y() : p.pixel.x(), z);
+    now.min_depth_m = std::min(now.min_depth_m, z);
+    now.max_depth_m = std::max(now.max_depth_m, z);
   }
+  if (profile.points.empty()) now.min_depth_m = 0.0;
   std::sort(depth_by_line.begin(), depth_by_line.end());
   std::vector<double> nearby;
+  const Eigen::Vector3d unknown =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   for (const LaserPoint& candidate : candidates) {
     const double line = options_.scan_rows ? candidate.v : candidate.u;
+    const double position = options_.scan_rows ? candidate.u : candidate.v;
+    now.by_line.push_back({static_cast<int>(std::lround(line)), static_cast<float>(position),
+                           static_cast<int>(now.pixels.size())});
+    now.pixels.emplace_back(candidate.u, candidate.v);
+    now.points.push_back(unknown);
+    now.matched.push_back(0);
     const auto first = std::lower_bound(depth_by_line.begin(), depth_by_line.end(),
                                         std::make_pair(line - options_.depth_search_lines, -1e300));
     nearby.clear();
@@ -145,9 +257,9 @@ void MotionFilter::End(const std::vector<LaserPoint>& candidates, const Profile&
     if (!ray || std::abs(ray->direction.z()) < 1e-9) continue;
     const double s = (depth - ray->origin.z()) / ray->direction.z();
     if (!(s > 0.0)) continue;
-    now.points.push_back(ray->origin + s * ray->direction);
-    now.positions.push_back(static_cast<float>(options_.scan_rows ? candidate.u : candidate.v));
+    now.points.back() = ray->origin + s * ray->direction;
   }
+  std::sort(now.by_line.begin(), now.by_line.end());
   history_.push_back(std::move(now));
   references_.clear();  // they belonged to the frame that just ended
 }

@@ -12,6 +12,15 @@
 // matched detections to a third image, with the laser's own depth for the
 // matching.
 //
+// Where an earlier candidate can be matched with a candidate of a frame
+// before it along its epipolar curve (thesis §5.5: the curve of a flat
+// port, sampled over the depths the laser measures), the texture
+// hypothesis is that match triangulated, not the profile's depth: a
+// marking on a box beside the line, nearer than the floor the line lies
+// on, is then still moved to where it is. Matches near the curve's far
+// end (the line itself seen again, which stays put like a point at
+// infinity) and ambiguous matches are not used.
+//
 // Only earlier frames from which the scene has moved far enough across the
 // line are compared with (otherwise line and texture move alike: the
 // thesis's critical motion, e.g. a hover); if nearly all of a frame's line
@@ -19,6 +28,7 @@
 // known (the odometry's start) are not filtered.
 #pragma once
 
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <optional>
@@ -42,6 +52,18 @@ struct MotionFilterOptions {
   int depth_search_lines = 30;  // profile points within this many scan lines give the depth
   // The current pose is predicted from poses at most this many frames old.
   int max_prediction_frames = 3;
+  // Epipolar matching between two earlier frames (the second at most
+  // epipolar_lag_frames before the first) for the texture hypothesis.
+  bool epipolar = true;
+  int epipolar_lag_frames = 3;
+  double epipolar_tolerance_px = 1.0;  // candidate to curve
+  int epipolar_samples = 8;            // along the ray, even in inverse depth
+  // Depths searched: this share of the frames' shortest laser range up to
+  // this multiple of the longest.
+  double near_factor = 0.5, far_factor = 2.0;
+  // A match at least this far from where the curve's far end (depth x 1e4)
+  // lands, so that its depth is measured, not assumed.
+  double min_parallax_px = 4.0;
   void Check() const;
 };
 
@@ -65,26 +87,56 @@ class MotionFilter {
   void SetPose(int frame, const Rigid3d& world_from_camera);
   // Frames compared with for the current frame (for reports and tests).
   int references() const { return static_cast<int>(references_.size()); }
+  // Candidates of the frames compared with that were placed by an
+  // epipolar match rather than the profile's depth (for reports and tests).
+  int epipolar_matches() const { return epipolar_matches_; }
+  // Candidates placed by an epipolar match so far, each counted once.
+  long epipolar_matches_total() const { return epipolar_matches_total_; }
 
  private:
   struct Past {
     int frame = 0;
     double timestamp_s = 0.0;
     std::optional<Rigid3d> world_from_camera;
-    std::vector<Eigen::Vector3d> points;  // candidates on the scene, camera frame
-    std::vector<float> positions;         // ... and where they were (across the line)
+    // Every candidate: where it was, and on the scene (camera frame) at the
+    // profile's depth (NaN without profile points nearby), or at its
+    // epipolar match once one was found (`matched`).
+    std::vector<Eigen::Vector2d> pixels;
+    std::vector<Eigen::Vector3d> points;
+    std::vector<uint8_t> matched;
+    struct OnLine {
+      int line;
+      float position;
+      int index;  // into pixels
+      bool operator<(const OnLine& o) const {
+        return line != o.line ? line < o.line : position < o.position;
+      }
+    };
+    std::vector<OnLine> by_line;                  // sorted
+    double min_depth_m = 0.0, max_depth_m = 0.0;  // of the profile (camera z)
+    bool epipolar_done = false;
   };
   struct Moved {
     float position, tolerance;
   };
   std::optional<Rigid3d> PredictPose(double timestamp_s) const;
+  // Matches `past`'s candidates along their epipolar curves with those of
+  // the earliest frame with a pose within epipolar_lag_frames before it.
+  void MatchEpipolar(Past* past);
+  // The candidate of `earlier` on the epipolar curve of `ray` (in `past`'s
+  // camera frame), triangulated, if there is exactly one.
+  std::optional<Eigen::Vector3d> MatchAlongCurve(const Ray& ray, const Rigid3d& earlier_from_past,
+                                                 const Past& earlier, double near_m,
+                                                 double far_m) const;
 
   const Camera& camera_;
   MotionFilterOptions options_;
   std::deque<Past> history_;
   int frame_ = 0;
   double timestamp_s_ = 0.0;
-  std::vector<int> references_;            // frames compared with
+  std::vector<int> references_;  // frames compared with
+  int epipolar_matches_ = 0;
+  long epipolar_matches_total_ = 0;
   std::vector<std::vector<Moved>> moved_;  // per scan line of the image
 };
 

@@ -33,8 +33,10 @@ class MotionFilterTest : public ::testing::Test {
   }
   // Candidates of frame k: the laser's column and the stripe at world x =
   // stripe_x, on every 4th row; the profile: the laser points.
+  // The stripe may be painted on a box top `stripe_height` above the floor.
   void Frame(int k, double step, double stripe_x, std::vector<LaserPoint>* candidates,
-             Profile* profile, std::vector<double>* stripe_columns) const {
+             Profile* profile, std::vector<double>* stripe_columns,
+             double stripe_height = 0.0) const {
     const Rigid3d camera_from_world = Pose(k, step).Inverse();
     candidates->clear();
     profile->points.clear();
@@ -52,8 +54,8 @@ class MotionFilterTest : public ::testing::Test {
       // that it lands on the row (solve along the stripe numerically).
       const Eigen::Vector3d on_row = Pose(k, step) * OnFloor({kLaserColumn, double(row)});
       const auto pixel =
-          camera_.Project(camera_from_world * Eigen::Vector3d(stripe_x, on_row.y(), 0.0));
-      if (!pixel) continue;
+          camera_.Project(camera_from_world * Eigen::Vector3d(stripe_x, on_row.y(), stripe_height));
+      if (!pixel || !camera_.InImage(*pixel)) continue;
       LaserPoint stripe;
       stripe.u = pixel->x();
       stripe.v = pixel->y();
@@ -90,6 +92,50 @@ TEST_F(MotionFilterTest, AStripeMovingWithTheFloorIsExcludedTheLineIsNot) {
     }
     filter.End(candidates, profile);
     filter.SetPose(k, Pose(k, step));
+  }
+}
+
+// A marking on a box top 0.5 m above the floor, beside a line that lies on
+// the floor: the profile's depth would move it 25 % too little; matched
+// along its epipolar curve with an earlier frame and triangulated, it is
+// moved to where it is (thesis §5.5). Without the epipolar match it stays.
+TEST_F(MotionFilterTest, ARaisedMarkingIsMatchedAlongItsEpipolarCurve) {
+  for (const bool epipolar : {false, true}) {
+    MotionFilterOptions options;
+    options.epipolar = epipolar;
+    MotionFilter filter(camera_, options);
+    std::vector<LaserPoint> candidates;
+    Profile profile;
+    std::vector<double> stripe;
+    const double step = 0.03;
+    int stripe_excluded = 0, stripe_total = 0, laser_excluded = 0;
+    for (int k = 0; k < 8; ++k) {
+      filter.Begin(k, 0.1 * k);
+      Frame(k, step, 0.45, &candidates, &profile, &stripe, /*stripe_height=*/0.5);
+      if (k >= 3) {
+        const auto excluded = filter.Predicate();
+        ASSERT_TRUE(excluded) << k;
+        EXPECT_EQ(filter.epipolar_matches() > 0, epipolar) << k;
+        for (const LaserPoint& c : candidates) {
+          const bool hit = excluded(c.u, static_cast<int>(std::lround(c.v)));
+          if (c.u == kLaserColumn) {
+            laser_excluded += hit;
+          } else {
+            stripe_excluded += hit;
+            ++stripe_total;
+          }
+        }
+      }
+      filter.End(candidates, profile);
+      filter.SetPose(k, Pose(k, step));
+    }
+    ASSERT_GT(stripe_total, 100);
+    EXPECT_EQ(laser_excluded, 0) << epipolar;
+    if (epipolar) {
+      EXPECT_GT(stripe_excluded, 0.9 * stripe_total);
+    } else {
+      EXPECT_LT(stripe_excluded, 0.1 * stripe_total);
+    }
   }
 }
 
@@ -143,6 +189,9 @@ TEST_F(MotionFilterTest, TheLineMovingAgainstTheSceneIsKept) {
 TEST(MotionFilterOptionsTest, BadOptionsAreRejected) {
   MotionFilterOptions options;
   options.tolerance_of_shift = 0.6;  // would exclude the line itself
+  EXPECT_THROW(MotionFilter(Camera::Flat1(), options), Error);
+  options = {};
+  options.near_factor = 0.0;  // would search the curve up to the camera
   EXPECT_THROW(MotionFilter(Camera::Flat1(), options), Error);
 }
 

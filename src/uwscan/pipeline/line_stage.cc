@@ -45,6 +45,7 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
     } else {
       laser::MotionFilterOptions motion;
       motion.scan_rows = detector_.scan_rows;
+      motion.epipolar = job.epipolar_texture;
       motion_filter_.emplace(camera, motion);
     }
   }
@@ -125,6 +126,7 @@ laser::Detection LineStage::Detect(const cv::Mat& image, const FrameRecord& reco
     options.exclude_candidate = motion_filter_->Predicate();
     options.exclude_candidate_on_restore = motion_filter_->Predicate(/*strict=*/true);
     options.keep_candidates = true;
+    report_->texture_epipolar_matches = motion_filter_->epipolar_matches_total();
   }
   laser::Detection detection =
       laser::DetectLaserLine(image, laser::LayoutFor(camera_.bayer, image.channels()), options);

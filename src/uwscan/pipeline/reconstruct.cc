@@ -132,6 +132,7 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"points_uncompensated", points_uncompensated},
           {"triangulation_failures", triangulation_failures},
           {"static_candidates_ignored", static_detections_removed},
+          {"texture_candidates_matched_epipolar", texture_epipolar_matches},
           {"points_dropped_on_albedo_edges", albedo_edge_points},
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},

@@ -30,6 +30,9 @@ struct ReconstructJob {
   // (laser/sweep_filter.h), with a fixed laser those that move with the
   // scene as the platform moves (laser/motion_filter.h).
   bool texture_filter = true;
+  // Fixed laser: the motion filter matches earlier candidates along their
+  // epipolar curves (thesis §5.5) before falling back to the profile's depth.
+  bool epipolar_texture = true;
   // Drop line detections on an albedo edge, judged in the flood-lit channel
   // (laser::DetectorOptions::albedo_channel; red for a green laser).
   bool drop_albedo_edges = true;
@@ -64,7 +67,10 @@ struct ReconstructReport {
   long points = 0;
   long points_uncompensated = 0;
   long triangulation_failures = 0;
-  long static_detections_removed = 0;     // line candidates ignored by the sweep filter
+  long static_detections_removed = 0;  // line candidates ignored by the sweep filter
+  // Fixed laser: earlier candidates placed on the scene by an epipolar
+  // match with a frame before them (the rest take the profile's depth).
+  long texture_epipolar_matches = 0;
   long albedo_edge_points = 0;            // line points dropped on an albedo edge
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept

@@ -20,6 +20,9 @@ using internal::LookingDown;
 // about its line direction, a red LED beside the camera.
 void AddThesisScanner(const ScenarioOptions& options, int width, int height, SimConfig* config) {
   Camera camera = ThesisCamera(width, height);
+  // A housing whose lens sits further behind the window (the thesis's
+  // aquarium used 1, 10 and 20 mm, Tab. 6.1); the default is Tab. 6.3's.
+  if (options.port_gap_mm) camera.port.d_air = *options.port_gap_mm * 1e-3;
   const OutputFormat output = options.output.value_or(OutputFormat::kBayer);
   camera.bayer = output == OutputFormat::kBayer ? "rggb" : "none";
   config->rig.cameras = {camera};

@@ -34,7 +34,9 @@ struct ScenarioOptions {
   std::optional<int> bits;
   int threads = 2;
   // aquarium (§6.1): gap between lens and window (1, 10, 20 mm in the
-  // thesis) and window tilt; laser-tilt (§6.2): laser tilt behind the window.
+  // thesis) and window tilt; the scanner scenarios (tank-target, hull,
+  // seabed-transect) take the gap too (default Tab. 6.3's 7 mm);
+  // laser-tilt (§6.2): laser tilt behind the window.
   std::optional<double> port_gap_mm, port_tilt_deg, laser_tilt_deg;
   int motion_blur_samples = 1;    // poses averaged over the exposure
   int supersample = 1;            // camera rays per pixel (n x n)
