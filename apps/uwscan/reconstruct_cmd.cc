@@ -73,6 +73,9 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--no-line-ranges", *no_line_ranges,
                 "scale only from the accumulated laser surface, not also from the map points "
                 "the laser line meets in each keyframe (thesis §5.4; for comparison)");
+  cmd->add_option("--ba-time-limit", job->self_referenced.odometry.ba.max_solver_time_s,
+                  "seconds one windowed BA may take before it stops unconverged")
+      ->capture_default_str();
   cmd->add_flag("--async-ba", job->self_referenced.odometry.async_bundle_adjustment,
                 "windowed BA on a second thread (faster; results then depend on thread timing)");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");

@@ -45,6 +45,12 @@ void RegisterVoCommand(CLI::App& app) {
                  "frames a track cut by the laser line (or lost by KLT) may stay lost and still be "
                  "taken up again under its id (0 = off)")
       ->capture_default_str();
+  vo->add_option("--ba-time-limit", job->odometry.ba.max_solver_time_s,
+                 "seconds one windowed BA may take before it stops unconverged")
+      ->capture_default_str();
+  vo->add_option("--ba-iterations", job->odometry.ba.max_iterations,
+                 "iterations one windowed BA may take")
+      ->capture_default_str();
   vo->add_flag("--async-ba", job->odometry.async_bundle_adjustment,
                "windowed BA on a second thread (frames are not held up by it)");
   vo->add_option("--max-frames", job->max_frames, "stop after this many frames");
@@ -150,6 +156,12 @@ void RegisterVoCommand(CLI::App& app) {
                  s.frames / std::max(s.vo_s, 1e-9),
                  1e3 * s.bundle_adjustment_s / std::max(s.frames, 1),
                  1e3 * s.mask_s / std::max(s.frames, 1), s.wall_s);
+    std::fprintf(stderr, "windowed BA: %d solves, %d stopped by the %.2f s time limit%s\n",
+                 s.bundle_adjustments, s.bundle_adjustments_time_limited,
+                 job->odometry.ba.max_solver_time_s,
+                 s.bundle_adjustments_time_limited > 0
+                     ? " (their results depend on the machine's load; --ba-time-limit)"
+                     : "");
     std::fprintf(stderr, "memory: RSS %ld kB at 10 %% of the run, %ld kB at the end, peak %ld kB\n",
                  s.rss_kb_at_10_percent, s.rss_kb_end, s.peak_rss_kb);
     if (s.metrics) std::fprintf(stderr, "%s", FormatTrajectoryMetrics(*s.metrics).c_str());

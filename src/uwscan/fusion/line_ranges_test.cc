@@ -91,7 +91,9 @@ TEST(LineRanges, MapPointsMeetingTheLineGetTheirRange) {
     EXPECT_LT(std::abs(error), 3.0 * r.sigma_m) << offset << " px, sigma " << r.sigma_m;
     sum_squared_normalised += error * error / (r.sigma_m * r.sigma_m);
     ++found;
-    if (offset == 0.0) EXPECT_NEAR(r.range_m, true_range.at(id), 1e-3);
+    if (offset == 0.0) {
+      EXPECT_NEAR(r.range_m, true_range.at(id), 1e-3);
+    }
     ASSERT_TRUE(r.ray_origin_camera.has_value());
     const auto ray = camera.BackProject(*camera.Project(camera_from_world * point.position_world));
     EXPECT_LT((*r.ray_origin_camera - ray->origin).norm(), 1e-9);

@@ -365,6 +365,8 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
                                                          frame.input.timestamp_s, {}, line_ranges);
   if (result.keyframe) ++keyframes_;
   line_ranges_ += result.line_ranges;
+  bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
+  bundle_adjustments_time_limited_ += result.bundle_adjustment.time_limited;
   tracks_cut_by_line_ += result.tracking.lost_mask;
   tracks_reacquired_ += result.tracking.reacquired;
   if (!result.world_from_camera) {
@@ -415,6 +417,8 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"tracks_cut_by_laser_line", tracks_cut_by_line_},
           {"tracks_reacquired", tracks_reacquired_},
           {"line_range_constraints", line_ranges_},
+          {"bundle_adjustments", bundle_adjustments_},
+          {"bundle_adjustments_stopped_by_time_limit", bundle_adjustments_time_limited_},
           {"surface_points", surface_ ? surface_->size() : 0}};
 }
 

@@ -144,6 +144,7 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int init_frame_ = -1;
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
   long line_ranges_ = 0;  // range constraints where map points met the laser line
+  int bundle_adjustments_ = 0, bundle_adjustments_time_limited_ = 0;
 };
 
 }  // namespace uwscan::fusion

@@ -56,10 +56,9 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   const int placed_frames = frames_with_line - frames_without_pose;
   if (placed_frames > 0 && scan_lines > 0 &&
       static_cast<double>(main_points) / placed_frames < 0.5 * scan_lines) {
-    warnings.push_back(
-        "the profiles are short: " + std::to_string(main_points / placed_frames) +
-        " points per frame of " + std::to_string(scan_lines) +
-        " scan lines (the line fades into the water or leaves the scene)");
+    warnings.push_back("the profiles are short: " + std::to_string(main_points / placed_frames) +
+                       " points per frame of " + std::to_string(scan_lines) +
+                       " scan lines (the line fades into the water or leaves the scene)");
   }
   if (frames_without_pose > 0) {
     warnings.push_back(std::to_string(frames_without_pose) + " frame(s) (" +
@@ -102,6 +101,13 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        "be taken for the line, or a surface the sheet grazes): ignored, " +
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
+  }
+  if (count("bundle_adjustments_stopped_by_time_limit") > 0) {
+    warnings.push_back(std::to_string(count("bundle_adjustments_stopped_by_time_limit")) + " of " +
+                       std::to_string(count("bundle_adjustments")) +
+                       " windowed bundle adjustments stopped at their time limit before "
+                       "converging: the trajectory depends on the machine's load "
+                       "(--ba-time-limit)");
   }
   if (count("implausible_poses_rejected") > 0) {
     warnings.push_back(std::to_string(count("implausible_poses_rejected")) +

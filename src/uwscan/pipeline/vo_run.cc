@@ -127,6 +127,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     summary.tracking_s += result.tracking_time_s;
     summary.vo_cpu_s += result.total_cpu_s;
     summary.bundle_adjustment_s += result.bundle_adjustment.time_s;
+    if (result.bundle_adjustment.keyframes > 0) ++summary.bundle_adjustments;
+    summary.bundle_adjustments_time_limited += result.bundle_adjustment.time_limited;
     summary.tracking_cpu_s += result.tracking_cpu_s;
     for (const auto& [frame, pose] : result.earlier_poses) {
       poses[frame] = {dataset.frames[size_t(frame)].timestamp_s, pose};

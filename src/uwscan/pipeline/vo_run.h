@@ -49,6 +49,8 @@ struct VoRunSummary {
   double mask_s = 0.0;                          // laser detection for the mask
   double vo_cpu_s = 0.0, tracking_cpu_s = 0.0;  // thread CPU time of the same
   double bundle_adjustment_s = 0.0;             // windowed BA (wall), part of vo_s
+  int bundle_adjustments = 0;
+  int bundle_adjustments_time_limited = 0;  // stopped by the time limit (load-dependent)
   long rss_kb_at_10_percent = 0, rss_kb_end = 0, peak_rss_kb = 0;
   std::vector<std::string> warnings;  // first few, for the CLI
   std::optional<TrajectoryMetrics> metrics;

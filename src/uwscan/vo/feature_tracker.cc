@@ -219,9 +219,21 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
   for (size_t i = 0; i < dormant_.size(); ++i) {
     if (!MaskedNear(mask, dormant_[i].track.pixel, clearance)) candidates.push_back(i);
   }
-  std::sort(candidates.begin(), candidates.end(), [&](size_t a, size_t c) {
-    return dormant_[a].anchor.get() < dormant_[c].anchor.get();
-  });
+  // Grouped by anchor image, the groups in the order they first appear in
+  // dormant_ (not by address: heap addresses differ from run to run when
+  // another thread allocates, and the order decides which of two revived
+  // tracks near the same corner is kept).
+  std::vector<const Pyramid*> anchors;
+  std::vector<size_t> group(dormant_.size(), 0);
+  for (size_t i = 0; i < dormant_.size(); ++i) {
+    const Pyramid* anchor = &dormant_[i].anchor;
+    auto it = std::find_if(anchors.begin(), anchors.end(),
+                           [&](const Pyramid* a) { return *a == *anchor; });
+    group[i] = static_cast<size_t>(it - anchors.begin());
+    if (it == anchors.end()) anchors.push_back(anchor);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](size_t a, size_t c) { return group[a] < group[c]; });
   std::vector<bool> revived(dormant_.size(), false);
   for (size_t begin = 0; begin < candidates.size();) {
     const Pyramid& anchor = dormant_[candidates[begin]].anchor;
@@ -261,23 +273,15 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
       ++t.age;
       t.anchored =
           anchor == anchor_pyramid_;  // refined from the anchor only if it is the current one
-      // The corner may have been detected again meanwhile as a new track:
-      // the older track (with the map point) replaces it.
+      // The corner may have been detected again meanwhile as a new track
+      // (or another dormant track revived onto it): the live one stays.
       const double duplicate = 0.5 * options_.min_distance_px;
-      FeatureTrack* near = nullptr;
-      for (FeatureTrack& live : tracks_) {
-        if ((live.pixel - t.pixel).norm() <= duplicate) {
-          near = &live;
-          break;
-        }
-      }
+      const bool near = std::any_of(tracks_.begin(), tracks_.end(), [&](const FeatureTrack& live) {
+        return (live.pixel - t.pixel).norm() <= duplicate;
+      });
       revived[candidates[begin + n]] = true;  // found: no longer dormant either way
       if (near) continue;
-      if (near) {
-        *near = t;
-      } else {
-        tracks_.push_back(t);
-      }
+      tracks_.push_back(t);
       ++stats->reacquired;
     }
     begin = end;

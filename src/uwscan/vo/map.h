@@ -25,7 +25,7 @@ struct RangeConstraint {
   // The ray's origin (camera frame) when the keyframe has no observation of
   // the point to take it from: a point where the laser line crosses it is
   // masked for tracking (thesis §5.4, the map point meeting the line).
-  std::optional<Eigen::Vector3d> ray_origin_camera;
+  std::optional<Eigen::Vector3d> ray_origin_camera = std::nullopt;
 };
 
 struct MapPoint {

@@ -1,7 +1,6 @@
 #include "uwscan/vo/windowed_bundle_adjuster.h"
 
 #include <algorithm>
-
 #include <chrono>
 #include <cmath>
 
@@ -18,6 +17,8 @@ void BundleAdjustmentOptions::Check() const {
   UWS_CHECK(taylor_iterations >= 1, "taylor_iterations must be >= 1");
   UWS_CHECK(sigma_px > 0 && huber_px > 0 && outlier_px > 0, "sigma/huber/outlier must be > 0");
   UWS_CHECK(max_iterations >= 1, "max_iterations must be >= 1");
+  UWS_CHECK(max_solver_time_s > 0 && std::isfinite(max_solver_time_s),
+            "max_solver_time_s must be a positive number of seconds");
   UWS_CHECK(range_cauchy_sigmas > 0 && range_outlier_sigmas > 0,
             "range_cauchy_sigmas and range_outlier_sigmas must be > 0");
 }
@@ -160,6 +161,8 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
   ceres::Solve(solver_options, &problem, &ceres_summary);
   summary.iterations = int(ceres_summary.iterations.size());
   summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+  summary.time_limited = ceres_summary.termination_type == ceres::NO_CONVERGENCE &&
+                         ceres_summary.total_time_in_seconds >= options.max_solver_time_s;
   summary.final_rms_px = rms();
   summary.keyframes = count;
   summary.points = int(window.points.size());
@@ -189,13 +192,14 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
     double residual = 0.0;
     std::vector<double*> blocks;
     problem.GetParameterBlocksForResidualBlock(ref.id, &blocks);
-    const bool ok =
-        problem.GetCostFunctionForResidualBlock(ref.id)->Evaluate(blocks.data(), &residual, nullptr);
+    const bool ok = problem.GetCostFunctionForResidualBlock(ref.id)->Evaluate(blocks.data(),
+                                                                              &residual, nullptr);
     if (ok && std::abs(residual) <= options.range_outlier_sigmas) continue;
     auto& ranges = map->keyframes[size_t(first + ref.keyframe)].range_constraints;
-    ranges.erase(std::remove_if(ranges.begin(), ranges.end(),
-                                [&](const RangeConstraint& r) { return r.point_id == ref.point_id; }),
-                 ranges.end());
+    ranges.erase(
+        std::remove_if(ranges.begin(), ranges.end(),
+                       [&](const RangeConstraint& r) { return r.point_id == ref.point_id; }),
+        ranges.end());
     ++summary.removed_range_constraints;
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -60,6 +60,7 @@ struct BundleAdjustmentSummary {
   double final_rms_px = 0.0;
   double time_s = 0.0;
   bool converged = false;
+  bool time_limited = false;                   // stopped by max_solver_time_s, not converged
   std::vector<uint64_t> removed_observations;  // point ids dropped from the newest keyframe
 };
 
