@@ -26,6 +26,10 @@ awk -v a="$ate" 'BEGIN { exit !(a < 0.004) }' || fail "ATE $ate m too large"
 awk -v d="$drift" 'BEGIN { exit !(d < 1.0) }' || fail "drift $drift % too large"
 grep -q "RPE per frame" "$dir/eval" || fail "no RPE"
 
+# The summary says how many windowed BA solves the time limit stopped.
+grep -q "^windowed BA: [0-9]* solves, [0-9]* stopped by the 0.20 s time limit" "$dir/log" \
+  || fail "no BA time-limit count in the summary"
+
 # Pinhole model runs too (bias is measured in the unit tests and BENCHMARKS.md).
 "$bin" vo --dataset "$dir/seq" --out "$dir/p.tum" --model pinhole --quiet || fail "pinhole run"
 
@@ -64,6 +68,10 @@ grep -q "^59,.*,tracked," "$dir/bstatus.csv" || fail "not tracking at the end"
 [ $? -eq 2 ] || fail "bad --model: want exit 2"
 "$bin" vo --dataset "$dir/none" --out "$dir/x.tum" 2>"$dir/err"; [ $? -eq 1 ] || fail "no dataset: want 1"
 grep -q "^uwscan: error: .*none" "$dir/err" || fail "error does not name the folder"
+"$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --ba-time-limit 0 2>"$dir/err"
+[ $? -eq 1 ] || fail "--ba-time-limit 0: want 1"
+grep -q "ba-time-limit" "$dir/err" || fail "error does not name --ba-time-limit"
+[ ! -e "$dir/x.tum" ] || fail "a trajectory written after a bad option"
 rm "$dir/bad/groundtruth.tum"
 "$bin" evaluate --dataset "$dir/bad" --trajectory "$dir/b.tum" 2>"$dir/err"
 [ $? -eq 1 ] || fail "evaluate without ground truth: want 1"

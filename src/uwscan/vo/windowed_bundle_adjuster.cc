@@ -18,7 +18,7 @@ void BundleAdjustmentOptions::Check() const {
   UWS_CHECK(sigma_px > 0 && huber_px > 0 && outlier_px > 0, "sigma/huber/outlier must be > 0");
   UWS_CHECK(max_iterations >= 1, "max_iterations must be >= 1");
   UWS_CHECK(max_solver_time_s > 0 && std::isfinite(max_solver_time_s),
-            "max_solver_time_s must be a positive number of seconds");
+            "the BA time limit (--ba-time-limit) must be a positive number of seconds");
   UWS_CHECK(range_cauchy_sigmas > 0 && range_outlier_sigmas > 0,
             "range_cauchy_sigmas and range_outlier_sigmas must be > 0");
 }
