@@ -45,6 +45,10 @@ void RegisterVoCommand(CLI::App& app) {
                  "frames a track cut by the laser line (or lost by KLT) may stay lost and still be "
                  "taken up again under its id (0 = off)")
       ->capture_default_str();
+  vo->add_option("--max-tracking-width", job->max_tracking_width,
+                 "frames wider than this are tracked at half resolution (raw Bayer: the LED "
+                 "colour's own samples, no demosaicking); 0 = full resolution")
+      ->capture_default_str();
   vo->add_option("--ba-time-limit", job->odometry.ba.max_solver_time_s,
                  "seconds one windowed BA may take before it stops unconverged")
       ->capture_default_str();
@@ -144,6 +148,7 @@ void RegisterVoCommand(CLI::App& app) {
                  "%d unreadable; %d keyframes, %d gaps -> %s\n",
                  s.frames, s.posed, s.tracked, s.lost, s.reinitialised, s.invalid, s.unreadable,
                  s.keyframes, s.gaps, out->c_str());
+    std::fprintf(stderr, "tracked: %s\n", s.tracked_image.c_str());
     if (job->mask_laser) {
       std::fprintf(stderr, "tracks: %ld lost on the laser mask, %ld taken up again after a loss\n",
                    s.tracks_lost_on_mask, s.tracks_reacquired);

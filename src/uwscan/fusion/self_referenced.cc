@@ -30,6 +30,16 @@ std::optional<cv::Point> SelfReferencedPoseProvider::BayerSampleOffset(const std
   return cv::Point(static_cast<int>(at % 2), static_cast<int>(at / 2));
 }
 
+Camera SelfReferencedPoseProvider::BayerChannelCamera(const Camera& camera,
+                                                      const cv::Point& offset) {
+  Camera half = camera;
+  half.width /= 2;
+  half.height /= 2;
+  half.intrinsics = {camera.intrinsics[0] / 2, camera.intrinsics[1] / 2,
+                     (camera.intrinsics[2] - offset.x) / 2, (camera.intrinsics[3] - offset.y) / 2};
+  return half;
+}
+
 cv::Mat SelfReferencedPoseProvider::BayerChannel(const cv::Mat& raw, const cv::Point& offset) {
   UWS_CHECK(raw.channels() == 1, "self-referenced odometry: expected a raw Bayer frame, got ",
             raw.channels(), " channels");
@@ -106,15 +116,9 @@ void SelfReferencedPoseProvider::ChooseTrackedImage(const cv::Mat& frame) {
   if (tracking_halvings_ > 0 && frame.channels() == 1)
     bayer_offset_ = BayerSampleOffset(camera_.bayer, passive_rgb);
   if (bayer_offset_) {
-    // Half-resolution pixel x is full-resolution pixel 2 x + offset; further
-    // halving averages 2x2 blocks (pixel centres scale about -0.5).
-    Camera half = camera_;
-    half.width /= 2;
-    half.height /= 2;
-    half.intrinsics = {camera_.intrinsics[0] / 2, camera_.intrinsics[1] / 2,
-                       (camera_.intrinsics[2] - bayer_offset_->x) / 2,
-                       (camera_.intrinsics[3] - bayer_offset_->y) / 2};
-    tracking_camera_ = ScaledCamera(half, 1.0 / (1 << (tracking_halvings_ - 1)));
+    // Further halving averages 2x2 blocks (pixel centres scale about -0.5).
+    tracking_camera_ = ScaledCamera(BayerChannelCamera(camera_, *bayer_offset_),
+                                    1.0 / (1 << (tracking_halvings_ - 1)));
   }
 }
 

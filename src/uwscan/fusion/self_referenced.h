@@ -82,6 +82,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   static std::optional<cv::Point> BayerSampleOffset(const std::string& bayer, int rgb_channel);
   // That colour's own samples of the raw mosaic: a half-resolution image.
   static cv::Mat BayerChannel(const cv::Mat& raw, const cv::Point& offset);
+  // The camera of BayerChannel's image: half-resolution pixel x is
+  // full-resolution pixel 2 x + offset.
+  static Camera BayerChannelCamera(const Camera& camera, const cv::Point& offset);
 
  private:
   struct Held {

@@ -46,6 +46,7 @@ void VoJob::Check() const {
   }
   if (!(pinhole_fit_depth_m > 0)) throw UsageError("--pinhole-fit-depth must be > 0");
   if (mask_margin_px < 0) throw UsageError("--mask-margin must be >= 0");
+  if (max_tracking_width < 0) throw UsageError("--max-tracking-width must be >= 0");
   odometry.Check();
 }
 
@@ -75,8 +76,32 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     detector.laser_channel = laser::ChannelForWavelength(dataset.rig.lasers[0].wavelength_nm);
   }
 
+  // Wide frames are tracked smaller; a raw Bayer frame through the passive
+  // colour's own samples (half resolution, no demosaicking: the
+  // interpolated pixels add no information but cost 4x the tracking).
+  const int passive_rgb = detector.laser_channel == laser::kRed ? laser::kBlue : laser::kRed;
+  int halvings = 0;
+  while (job.max_tracking_width > 0 && (rig_camera.width >> halvings) > job.max_tracking_width &&
+         (rig_camera.width >> halvings) >= 320) {
+    ++halvings;
+  }
+  std::optional<cv::Point> bayer_offset;
+  if (halvings > 0) {
+    bayer_offset =
+        fusion::SelfReferencedPoseProvider::BayerSampleOffset(rig_camera.bayer, passive_rgb);
+    camera = bayer_offset ? ScaledCamera(fusion::SelfReferencedPoseProvider::BayerChannelCamera(
+                                             camera, *bayer_offset),
+                                         1.0 / (1 << (halvings - 1)))
+                          : ScaledCamera(camera, 1.0 / (1 << halvings));
+  }
+  const cv::Size tracked_size(camera.width, camera.height);
+
   vo::Odometry odometry(camera, job.odometry);
   VoRunSummary summary;
+  summary.tracked_image = std::string(bayer_offset ? (passive_rgb == laser::kRed ? "red" : "blue") +
+                                                         std::string(" samples of the raw mosaic")
+                                                   : "passive colour") +
+                          ", " + std::to_string(camera.width) + "x" + std::to_string(camera.height);
   std::map<int, StampedPose> poses;  // by position in frames.csv
   std::vector<vo::FrameResult> results;
   std::vector<std::string> status_lines;
@@ -116,7 +141,32 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     // Track the colour the laser does not light (the LED's, §5.5), with the
     // moving lights' shading removed (fusion::SelfReferencedPoseProvider).
     cv::Mat tracking;
-    if (!raw.empty()) {
+    const bool rig_size = raw.cols == rig_camera.width && raw.rows == rig_camera.height;
+    if (!raw.empty() && halvings > 0 && rig_size) {
+      cv::Mat passive;
+      if (bayer_offset && raw.channels() == 1) {
+        passive = fusion::SelfReferencedPoseProvider::BayerChannel(raw, *bayer_offset);
+      } else {
+        passive = fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer,
+                                                                   detector.laser_channel);
+      }
+      if (passive.size() != tracked_size) {
+        cv::resize(passive, passive, tracked_size, 0, 0, cv::INTER_AREA);
+      }
+      tracking =
+          fusion::SelfReferencedPoseProvider::NormalizeIllumination(passive, 0.01 * camera.width);
+      if (!mask.empty()) {
+        // A tracked pixel is masked if any of its full-resolution pixels is.
+        cv::resize(mask, mask, tracked_size, 0, 0, cv::INTER_AREA);
+        cv::threshold(mask, mask, 0, 255, cv::THRESH_BINARY);
+      }
+    } else if (!raw.empty() && halvings > 0) {
+      warn("frame " + std::to_string(entry.index) + ": image is " + std::to_string(raw.cols) + "x" +
+           std::to_string(raw.rows) + ", camera '" + rig_camera.name + "' is " +
+           std::to_string(rig_camera.width) + "x" + std::to_string(rig_camera.height));
+    } else if (!raw.empty()) {
+      // (A frame of the wrong size goes through as it is: the odometry
+      // reports it invalid.)
       tracking = fusion::SelfReferencedPoseProvider::NormalizeIllumination(
           fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer,
                                                            detector.laser_channel),

@@ -26,6 +26,10 @@ struct VoJob {
   bool mask_laser = false;
   double mask_margin_px = 6.0;  // dilation of the detector's mask (KLT window support)
   int max_frames = -1;          // < 0: all
+  // Frames wider than this are tracked at half (quarter, ...) resolution:
+  // a raw Bayer frame through the passive colour's own samples (no
+  // demosaicking), as the self-referenced scan does. 0: full resolution.
+  int max_tracking_width = 640;
   bool quiet = false;
   // A 14-keyframe window instead of the library's 7: on 20 m transects in
   // coastal water the drift went from 1.15-1.68 % to 0.73-1.51 % (seven
@@ -52,6 +56,7 @@ struct VoRunSummary {
   int bundle_adjustments = 0;
   int bundle_adjustments_time_limited = 0;  // stopped by the time limit (load-dependent)
   long rss_kb_at_10_percent = 0, rss_kb_end = 0, peak_rss_kb = 0;
+  std::string tracked_image;          // what the odometry tracked, e.g. "red samples ..., 640x480"
   std::vector<std::string> warnings;  // first few, for the CLI
   std::optional<TrajectoryMetrics> metrics;
 };
