@@ -17,6 +17,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto no_epipolar = std::make_shared<bool>(false);
   auto no_difference = std::make_shared<bool>(false);
   auto no_line_ranges = std::make_shared<bool>(false);
+  auto line_ranges = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
   auto main_camera_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
@@ -72,7 +73,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                 "difference to the laser-off frame before it");
   cmd->add_flag("--no-line-ranges", *no_line_ranges,
                 "scale only from the accumulated laser surface, not also from the map points "
-                "the laser line meets in each keyframe (thesis §5.4; for comparison)");
+                "the laser line meets in each keyframe (thesis §5.4); by default they are used "
+                "with a fixed laser and not on servo sweeps");
+  cmd->add_flag("--line-ranges", *line_ranges,
+                "use the map points the laser line meets in each keyframe on servo sweeps too");
   cmd->add_option("--ba-time-limit", job->self_referenced.odometry.ba.max_solver_time_s,
                   "seconds one windowed BA may take before it stops unconverged")
       ->capture_default_str();
@@ -88,7 +92,11 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->epipolar_texture = !*no_epipolar;
     job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
-    job->self_referenced.use_line_ranges = !*no_line_ranges;
+    if (*no_line_ranges && *line_ranges) {
+      throw UsageError("--line-ranges and --no-line-ranges exclude each other");
+    }
+    if (*no_line_ranges) job->line_ranges = false;
+    if (*line_ranges) job->line_ranges = true;
     job->other_cameras = !*main_camera_only;
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {

@@ -80,6 +80,7 @@ TEST(SelfReferencedPoseProvider, AShortTransectWithAFixedLaserStarts) {
          report.frames - report.frames_without_pose);
   EXPECT_LT(without, 20);
   EXPECT_EQ(report.frames_without_pose, 0);
+  EXPECT_TRUE(report.line_ranges);  // a fixed laser: on by default
   const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
   const SurfaceAccuracy* floor = evaluation.compensated.Surface("floor");
   ASSERT_TRUE(floor);
@@ -95,13 +96,20 @@ class SelfReferencedHover : public ::testing::TestWithParam<int> {};
 TEST_P(SelfReferencedHover, CompensatesHoverMotion) {
   ReconstructJob job = SimulatedHover("hover_" + std::to_string(GetParam()), 90, 4);
   job.self_referenced.max_tracking_width = GetParam();
+  // A servo sweep: no line ranges unless asked for (ReconstructJob::line_ranges).
+  if (GetParam() == 0) job.line_ranges = true;
   const ReconstructReport report = RunReconstruct(job);
   EXPECT_EQ(report.pose_details["tracked_image_width"].get<int>(),
             GetParam() == 0 ? 480 : GetParam());
   EXPECT_EQ(report.pose_source, "self-referenced visual odometry");
   EXPECT_LT(report.frames_without_pose, 20);
-  // The line meets map points on the way (line_ranges.h).
-  EXPECT_GT(report.pose_details["line_range_constraints"].get<long>(), 0);
+  // Asked for, the line meets map points on the way (line_ranges.h).
+  EXPECT_EQ(report.line_ranges, GetParam() == 0);
+  if (GetParam() == 0) {
+    EXPECT_GT(report.pose_details["line_range_constraints"].get<long>(), 0);
+  } else {
+    EXPECT_EQ(report.pose_details["line_range_constraints"].get<long>(), 0);
+  }
   const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
   const double compensated = evaluation.compensated.point_error_rms_m;
   const double uncompensated = evaluation.uncompensated.point_error_rms_m;

@@ -19,6 +19,13 @@ double Seconds(std::chrono::steady_clock::time_point since) {
 
 }  // namespace
 
+bool LaserSweeps(const std::vector<FrameRecord>& frames) {
+  return std::any_of(frames.begin(), frames.end(), [&](const FrameRecord& f) {
+    return f.laser_angle_rad && frames.front().laser_angle_rad &&
+           std::abs(*f.laser_angle_rad - *frames.front().laser_angle_rad) > 1e-6;
+  });
+}
+
 LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& camera,
                      const LineProjector& laser, const Rigid3d& camera_from_laser,
                      const std::vector<FrameRecord>& frames, ReconstructReport* report)
@@ -36,11 +43,7 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
       job.drop_albedo_edges ? laser::AlbedoChannelFor(detector_.laser_channel) : -1;
   detector_.make_mask = true;
   if (job.texture_filter) {
-    const bool servo = std::any_of(frames.begin(), frames.end(), [&](const FrameRecord& f) {
-      return f.laser_angle_rad && frames.front().laser_angle_rad &&
-             std::abs(*f.laser_angle_rad - *frames.front().laser_angle_rad) > 1e-6;
-    });
-    if (servo) {
+    if (LaserSweeps(frames)) {
       StartSweepFilter();
     } else {
       laser::MotionFilterOptions motion;

@@ -17,6 +17,10 @@
 
 namespace uwscan {
 
+// Whether the frames' laser angles change (a servo sweep) rather than stay
+// (a laser fixed to the platform, or no angles).
+bool LaserSweeps(const std::vector<FrameRecord>& frames);
+
 class LineStage {
  public:
   // `camera`, `laser`, `frames`, `job` and `report` must outlive the stage.

@@ -139,6 +139,7 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"triangulation_failures", triangulation_failures},
           {"static_candidates_ignored", static_detections_removed},
           {"texture_candidates_matched_epipolar", texture_epipolar_matches},
+          {"line_ranges", line_ranges},
           {"points_dropped_on_albedo_edges", albedo_edge_points},
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},
@@ -243,8 +244,11 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                                                 job.poses_file->string());
   }
   if (!provider) {
+    fusion::SelfReferencedOptions options = job.self_referenced;
+    options.use_line_ranges = job.line_ranges.value_or(!LaserSweeps(frames));
+    report.line_ranges = options.use_line_ranges;
     provider = std::make_unique<fusion::SelfReferencedPoseProvider>(
-        camera, line_stage.detector().laser_channel, job.self_referenced);
+        camera, line_stage.detector().laser_channel, options);
   }
 
   std::error_code error;

@@ -25,6 +25,14 @@ struct ReconstructJob {
   std::string laser_name;           // default: the first laser
   laser::DetectorOptions detector;  // scan direction and colour come from the rig
   fusion::SelfReferencedOptions self_referenced;
+  // Range constraints where map points meet the laser line (thesis §5.4,
+  // SelfReferencedOptions::use_line_ranges): unset = with a fixed laser
+  // only. A fixed laser on a moving platform leaves the surface's reference
+  // view behind and needs them to keep the scale (20 m transects: Sim(3)
+  // scale 0.958-0.990 -> 0.994-0.998); a servo sweep measures the features'
+  // depths itself, and there they hurt a hull with a shaft in front (shaft
+  // residual 13.5 -> 6.2 mm, 3.9 -> 1.6 mm) and do nothing on the tank.
+  std::optional<bool> line_ranges;
   // Ignore line candidates that behave like scene texture (thesis §5.5): on
   // servo datasets those that stay put while the sheet sweeps
   // (laser/sweep_filter.h), with a fixed laser those that move with the
@@ -71,6 +79,7 @@ struct ReconstructReport {
   // Fixed laser: earlier candidates placed on the scene by an epipolar
   // match with a frame before them (the rest take the profile's depth).
   long texture_epipolar_matches = 0;
+  bool line_ranges = false;               // whether the odometry used them
   long albedo_edge_points = 0;            // line points dropped on an albedo edge
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
