@@ -30,6 +30,18 @@ grep -q "RPE per frame" "$dir/eval" || fail "no RPE"
 grep -q "^windowed BA: [0-9]* solves, [0-9]* stopped by the 0.20 s time limit" "$dir/log" \
   || fail "no BA time-limit count in the summary"
 
+# Tracked at half resolution (camera and mask scaled along): still on track.
+"$bin" vo synth --out "$dir/wide" --frames 60 --width 640 --length 1.5 2>/dev/null \
+  || fail "vo synth 640"
+"$bin" vo --dataset "$dir/wide" --out "$dir/h.tum" --mask-laser --max-tracking-width 320 \
+  2>"$dir/hlog" || fail "vo at half resolution: $(cat "$dir/hlog")"
+grep -q "^tracked: passive colour, 320x240" "$dir/hlog" || fail "not tracked at 320x240"
+"$bin" evaluate --dataset "$dir/wide" --trajectory "$dir/h.tum" >"$dir/heval" || fail "evaluate half"
+hate=$(sed -n 's/^ATE (after alignment): rmse \([0-9.]*\) m.*/\1/p' "$dir/heval")
+awk -v a="$hate" 'BEGIN { exit !(a < 0.004) }' || fail "half-resolution ATE $hate m too large"
+"$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --max-tracking-width -1 2>/dev/null
+[ $? -eq 2 ] || fail "--max-tracking-width -1: want exit 2"
+
 # Pinhole model runs too (bias is measured in the unit tests and BENCHMARKS.md).
 "$bin" vo --dataset "$dir/seq" --out "$dir/p.tum" --model pinhole --quiet || fail "pinhole run"
 

@@ -146,15 +146,20 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       cv::Mat passive;
       if (bayer_offset && raw.channels() == 1) {
         passive = fusion::SelfReferencedPoseProvider::BayerChannel(raw, *bayer_offset);
-      } else {
+      } else if (!bayer_offset) {
         passive = fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer,
                                                                    detector.laser_channel);
+      } else {
+        warn("frame " + std::to_string(entry.index) + ": a " + std::to_string(raw.channels()) +
+             "-channel image where rig.yaml says raw '" + rig_camera.bayer + "' frames");
       }
-      if (passive.size() != tracked_size) {
+      if (!passive.empty() && passive.size() != tracked_size) {
         cv::resize(passive, passive, tracked_size, 0, 0, cv::INTER_AREA);
       }
-      tracking =
-          fusion::SelfReferencedPoseProvider::NormalizeIllumination(passive, 0.01 * camera.width);
+      if (!passive.empty()) {
+        tracking =
+            fusion::SelfReferencedPoseProvider::NormalizeIllumination(passive, 0.01 * camera.width);
+      }
       if (!mask.empty()) {
         // A tracked pixel is masked if any of its full-resolution pixels is.
         cv::resize(mask, mask, tracked_size, 0, 0, cv::INTER_AREA);
