@@ -40,6 +40,42 @@ Camera SelfReferencedPoseProvider::BayerChannelCamera(const Camera& camera,
   return half;
 }
 
+int SelfReferencedPoseProvider::TrackingHalvings(int width, int max_width) {
+  int halvings = 0;
+  while (max_width > 0 && (width >> halvings) > max_width && (width >> halvings) >= 320) {
+    ++halvings;
+  }
+  return halvings;
+}
+
+Camera SelfReferencedPoseProvider::TrackingCamera(const Camera& camera, int halvings,
+                                                  const std::optional<cv::Point>& bayer_offset) {
+  // Further halving averages 2x2 blocks (pixel centres scale about -0.5).
+  if (bayer_offset && halvings > 0) {
+    return ScaledCamera(BayerChannelCamera(camera, *bayer_offset), 1.0 / (1 << (halvings - 1)));
+  }
+  return ScaledCamera(camera, 1.0 / (1 << halvings));
+}
+
+cv::Mat SelfReferencedPoseProvider::TrackedPassiveImage(
+    const cv::Mat& raw, const std::string& bayer, int laser_channel,
+    const std::optional<cv::Point>& bayer_offset, const cv::Size& tracked) {
+  // The passive colour's own samples of the raw mosaic: half resolution
+  // without demosaicking (the tracking camera accounts for their offset).
+  cv::Mat passive =
+      bayer_offset ? BayerChannel(raw, *bayer_offset) : PassiveImage(raw, bayer, laser_channel);
+  if (passive.size() != tracked) cv::resize(passive, passive, tracked, 0, 0, cv::INTER_AREA);
+  return passive;
+}
+
+cv::Mat SelfReferencedPoseProvider::TrackedMask(const cv::Mat& mask, const cv::Size& tracked) {
+  if (mask.empty() || mask.size() == tracked) return mask;
+  cv::Mat small;
+  cv::resize(mask, small, tracked, 0, 0, cv::INTER_AREA);
+  cv::threshold(small, small, 0, 255, cv::THRESH_BINARY);
+  return small;
+}
+
 cv::Mat SelfReferencedPoseProvider::BayerChannel(const cv::Mat& raw, const cv::Point& offset) {
   UWS_CHECK(raw.channels() == 1, "self-referenced odometry: expected a raw Bayer frame, got ",
             raw.channels(), " channels");
@@ -102,12 +138,8 @@ SelfReferencedPoseProvider::SelfReferencedPoseProvider(const Camera& camera, int
                                                        const SelfReferencedOptions& options)
     : camera_(camera), laser_channel_(laser_channel), options_(options) {
   options_.Check();
-  while (options_.max_tracking_width > 0 &&
-         (camera_.width >> tracking_halvings_) > options_.max_tracking_width &&
-         (camera_.width >> tracking_halvings_) >= 320) {
-    ++tracking_halvings_;
-  }
-  tracking_camera_ = ScaledCamera(camera_, 1.0 / (1 << tracking_halvings_));
+  tracking_halvings_ = TrackingHalvings(camera_.width, options_.max_tracking_width);
+  tracking_camera_ = TrackingCamera(camera_, tracking_halvings_, std::nullopt);
   smoother_ = std::make_unique<PoseSmoother>(options_.smoothing_half_window);
 }
 
@@ -115,11 +147,7 @@ void SelfReferencedPoseProvider::ChooseTrackedImage(const cv::Mat& frame) {
   const int passive_rgb = laser_channel_ == laser::kRed ? laser::kBlue : laser::kRed;
   if (tracking_halvings_ > 0 && frame.channels() == 1)
     bayer_offset_ = BayerSampleOffset(camera_.bayer, passive_rgb);
-  if (bayer_offset_) {
-    // Further halving averages 2x2 blocks (pixel centres scale about -0.5).
-    tracking_camera_ = ScaledCamera(BayerChannelCamera(camera_, *bayer_offset_),
-                                    1.0 / (1 << (tracking_halvings_ - 1)));
-  }
+  if (bayer_offset_) tracking_camera_ = TrackingCamera(camera_, tracking_halvings_, bayer_offset_);
 }
 
 void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, double timestamp_s,
@@ -135,33 +163,19 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   ++frames_;
   Held held;
   held.input = frame;
-  cv::Mat passive;
-  int halvings = tracking_halvings_;
-  if (bayer_offset_) {
-    UWS_CHECK(frame.image.channels() == 1, "frame ", frame.index,
-              ": a colour image in a sequence of raw Bayer frames");
-    // The passive colour's own samples of the raw mosaic: half resolution
-    // without demosaicking (the tracking camera accounts for their offset).
-    passive = BayerChannel(frame.image, *bayer_offset_);
-    --halvings;
-  } else {
-    passive = PassiveImage(frame.image, camera_.bayer, laser_channel_);
-  }
+  UWS_CHECK(!bayer_offset_ || frame.image.channels() == 1, "frame ", frame.index,
+            ": a colour image in a sequence of raw Bayer frames");
   const cv::Size tracked(tracking_camera_.width, tracking_camera_.height);
-  if (halvings > 0) cv::resize(passive, passive, tracked, 0, 0, cv::INTER_AREA);
-  held.input.image =
-      NormalizeIllumination(passive, options_.illumination_sigma_fraction * tracking_camera_.width);
+  held.input.image = NormalizeIllumination(
+      TrackedPassiveImage(frame.image, camera_.bayer, laser_channel_, bayer_offset_, tracked),
+      options_.illumination_sigma_fraction * tracking_camera_.width);
   held.input.detection = nullptr;
   held.input.profile = nullptr;
   if (frame.detection && !frame.detection->mask.empty()) {
     const int d = options_.mask_dilation_px;
     cv::dilate(frame.detection->mask, held.mask,
                cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
-    if (tracking_halvings_ > 0) {
-      // A tracked pixel is masked if any of its full-resolution pixels is.
-      cv::resize(held.mask, held.mask, tracked, 0, 0, cv::INTER_AREA);
-      cv::threshold(held.mask, held.mask, 0, 255, cv::THRESH_BINARY);
-    }
+    held.mask = TrackedMask(held.mask, tracked);
   }
   if (frame.profile) held.profile = *frame.profile;
 

@@ -28,7 +28,9 @@ struct SelfReferencedOptions {
   vo::OdometryOptions odometry;
   SurfaceModelOptions surface;
   // Range constraints where map points meet the laser line in a keyframe
-  // (line_ranges.h), besides those from the accumulated surface.
+  // (line_ranges.h), besides those from the accumulated surface. (`uwscan
+  // reconstruct` sets it from ReconstructJob::line_ranges: by default with a
+  // fixed laser only.)
   bool use_line_ranges = true;
   LineRangeOptions line_ranges;
   // The odometry tracks the passive image halved until it is at most this
@@ -85,6 +87,23 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // The camera of BayerChannel's image: half-resolution pixel x is
   // full-resolution pixel 2 x + offset.
   static Camera BayerChannelCamera(const Camera& camera, const cv::Point& offset);
+
+  // What the odometry tracks, shared with `uwscan vo`: halvings that bring
+  // `width` to at most `max_width` (0: none), not below 320 px;
+  static int TrackingHalvings(int width, int max_width);
+  // the camera halved so often, the first halving through a Bayer colour's
+  // own samples when `bayer_offset` is set (BayerChannelCamera);
+  static Camera TrackingCamera(const Camera& camera, int halvings,
+                               const std::optional<cv::Point>& bayer_offset);
+  // the passive image at that camera's size (BayerChannel or PassiveImage,
+  // then 2x2 averages), not yet high-passed;
+  static cv::Mat TrackedPassiveImage(const cv::Mat& raw, const std::string& bayer,
+                                     int laser_channel,
+                                     const std::optional<cv::Point>& bayer_offset,
+                                     const cv::Size& tracked);
+  // and a full-resolution mask at that size: a tracked pixel is masked if
+  // any of its full-resolution pixels is.
+  static cv::Mat TrackedMask(const cv::Mat& mask, const cv::Size& tracked);
 
  private:
   struct Held {

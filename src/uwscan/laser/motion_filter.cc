@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "uwscan/sensor/triangulation.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::laser {
@@ -127,9 +128,8 @@ void MotionFilter::MatchEpipolar(Past* past) {
   const Rigid3d earlier_from_past =
       earlier->world_from_camera->Inverse() * *past->world_from_camera;
   for (size_t i = 0; i < past->pixels.size(); ++i) {
-    const auto ray = camera_.BackProject(past->pixels[i]);
-    if (!ray) continue;
-    const auto point = MatchAlongCurve(*ray, earlier_from_past, *earlier, near_m, far_m);
+    if (!past->rays[i]) continue;
+    const auto point = MatchAlongCurve(*past->rays[i], earlier_from_past, *earlier, near_m, far_m);
     if (!point) continue;
     past->points[i] = *point;
     past->matched[i] = 1;
@@ -165,34 +165,26 @@ std::optional<Eigen::Vector3d> MotionFilter::MatchAlongCurve(const Ray& ray,
       const int first = static_cast<int>(std::floor(std::min(a.y(), current->y()) - tolerance));
       const int last = static_cast<int>(std::ceil(std::max(a.y(), current->y()) + tolerance));
       auto it = std::lower_bound(earlier.by_line.begin(), earlier.by_line.end(),
-                                 Past::OnLine{first, -1e30f, 0});
-      for (; it != earlier.by_line.end() && it->line <= last; ++it) {
-        const Eigen::Vector2d& pixel = earlier.pixels[static_cast<size_t>(it->index)];
+                                 std::make_pair(first, -1));
+      for (; it != earlier.by_line.end() && it->first <= last; ++it) {
+        const int index = it->second;
+        const Eigen::Vector2d& pixel = earlier.pixels[static_cast<size_t>(index)];
         const Eigen::Vector2d c =
             options_.scan_rows ? pixel : Eigen::Vector2d(pixel.y(), pixel.x());
         const double t = std::clamp((c - a).dot(ab) / length2, 0.0, 1.0);
         if ((a + t * ab - c).norm() > tolerance) continue;
         if ((c - *far_end).norm() < options_.min_parallax_px) continue;  // depth not measured
-        if (match >= 0 && match != it->index) return std::nullopt;       // ambiguous
-        match = it->index;
+        if (match >= 0 && match != index) return std::nullopt;           // ambiguous
+        match = index;
       }
     }
     previous = current;
   }
   if (match < 0) return std::nullopt;
-  // Triangulated: the midpoint of the two rays' closest approach.
-  const auto other = camera_.BackProject(earlier.pixels[static_cast<size_t>(match)]);
+  const auto& other = earlier.rays[static_cast<size_t>(match)];
   if (!other) return std::nullopt;
-  const Ray second = other->Transformed(earlier_from_past.Inverse());
-  const Eigen::Vector3d d1 = ray.direction.normalized(), d2 = second.direction.normalized();
-  const Eigen::Vector3d r = ray.origin - second.origin;
-  const double b = d1.dot(d2), den = 1.0 - b * b;
-  if (den < 1e-12) return std::nullopt;
-  const double s1 = (b * d2.dot(r) - d1.dot(r)) / den;
-  const double s2 = (d2.dot(r) - b * d1.dot(r)) / den;
-  if (!(s1 > 0.0) || !(s2 > 0.0)) return std::nullopt;
-  const Eigen::Vector3d point = 0.5 * (ray.origin + s1 * d1 + second.origin + s2 * d2);
-  if (point.z() < near_m || point.z() > far_m) return std::nullopt;
+  const auto point = TriangulateRays({ray, other->Transformed(earlier_from_past.Inverse())});
+  if (!point || point->z() < near_m || point->z() > far_m) return std::nullopt;
   return point;
 }
 
@@ -236,10 +228,10 @@ void MotionFilter::End(const std::vector<LaserPoint>& candidates, const Profile&
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   for (const LaserPoint& candidate : candidates) {
     const double line = options_.scan_rows ? candidate.v : candidate.u;
-    const double position = options_.scan_rows ? candidate.u : candidate.v;
-    now.by_line.push_back({static_cast<int>(std::lround(line)), static_cast<float>(position),
-                           static_cast<int>(now.pixels.size())});
+    now.by_line.emplace_back(static_cast<int>(std::lround(line)),
+                             static_cast<int>(now.pixels.size()));
     now.pixels.emplace_back(candidate.u, candidate.v);
+    now.rays.push_back(camera_.BackProject(now.pixels.back()));
     now.points.push_back(unknown);
     now.matched.push_back(0);
     const auto first = std::lower_bound(depth_by_line.begin(), depth_by_line.end(),
@@ -253,7 +245,7 @@ void MotionFilter::End(const std::vector<LaserPoint>& candidates, const Profile&
     auto middle = nearby.begin() + static_cast<long>(nearby.size() / 2);
     std::nth_element(nearby.begin(), middle, nearby.end());
     const double depth = *middle;
-    const auto ray = camera_.BackProject({candidate.u, candidate.v});
+    const auto& ray = now.rays.back();
     if (!ray || std::abs(ray->direction.z()) < 1e-9) continue;
     const double s = (depth - ray->origin.z()) / ray->direction.z();
     if (!(s > 0.0)) continue;

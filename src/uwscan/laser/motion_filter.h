@@ -102,17 +102,10 @@ class MotionFilter {
     // profile's depth (NaN without profile points nearby), or at its
     // epipolar match once one was found (`matched`).
     std::vector<Eigen::Vector2d> pixels;
+    std::vector<std::optional<Ray>> rays;  // back-projected once
     std::vector<Eigen::Vector3d> points;
     std::vector<uint8_t> matched;
-    struct OnLine {
-      int line;
-      float position;
-      int index;  // into pixels
-      bool operator<(const OnLine& o) const {
-        return line != o.line ? line < o.line : position < o.position;
-      }
-    };
-    std::vector<OnLine> by_line;                  // sorted
+    std::vector<std::pair<int, int>> by_line;     // (scan line, index into pixels), sorted
     double min_depth_m = 0.0, max_depth_m = 0.0;  // of the profile (camera z)
     bool epipolar_done = false;
   };
@@ -124,7 +117,7 @@ class MotionFilter {
   // the earliest frame with a pose within epipolar_lag_frames before it.
   void MatchEpipolar(Past* past);
   // The candidate of `earlier` on the epipolar curve of `ray` (in `past`'s
-  // camera frame), triangulated, if there is exactly one.
+  // camera frame), triangulated (in that frame), if there is exactly one.
   std::optional<Eigen::Vector3d> MatchAlongCurve(const Ray& ray, const Rigid3d& earlier_from_past,
                                                  const Past& earlier, double near_m,
                                                  double far_m) const;

@@ -76,31 +76,23 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     detector.laser_channel = laser::ChannelForWavelength(dataset.rig.lasers[0].wavelength_nm);
   }
 
-  // Wide frames are tracked smaller; a raw Bayer frame through the passive
-  // colour's own samples (half resolution, no demosaicking: the
-  // interpolated pixels add no information but cost 4x the tracking).
+  // Wide frames are tracked smaller, as in the self-referenced scan; a raw
+  // Bayer frame through the passive colour's own samples (half resolution,
+  // no demosaicking: the interpolated pixels add no information but cost
+  // 4x the tracking).
+  using Tracking = fusion::SelfReferencedPoseProvider;
   const int passive_rgb = detector.laser_channel == laser::kRed ? laser::kBlue : laser::kRed;
-  int halvings = 0;
-  while (job.max_tracking_width > 0 && (rig_camera.width >> halvings) > job.max_tracking_width &&
-         (rig_camera.width >> halvings) >= 320) {
-    ++halvings;
-  }
-  std::optional<cv::Point> bayer_offset;
-  if (halvings > 0) {
-    bayer_offset =
-        fusion::SelfReferencedPoseProvider::BayerSampleOffset(rig_camera.bayer, passive_rgb);
-    camera = bayer_offset ? ScaledCamera(fusion::SelfReferencedPoseProvider::BayerChannelCamera(
-                                             camera, *bayer_offset),
-                                         1.0 / (1 << (halvings - 1)))
-                          : ScaledCamera(camera, 1.0 / (1 << halvings));
-  }
+  const int halvings = Tracking::TrackingHalvings(rig_camera.width, job.max_tracking_width);
+  const std::optional<cv::Point> bayer_offset =
+      halvings > 0 ? Tracking::BayerSampleOffset(rig_camera.bayer, passive_rgb) : std::nullopt;
+  if (halvings > 0) camera = Tracking::TrackingCamera(camera, halvings, bayer_offset);
   const cv::Size tracked_size(camera.width, camera.height);
 
   vo::Odometry odometry(camera, job.odometry);
   VoRunSummary summary;
-  summary.tracked_image = std::string(bayer_offset ? (passive_rgb == laser::kRed ? "red" : "blue") +
-                                                         std::string(" samples of the raw mosaic")
-                                                   : "passive colour") +
+  summary.tracked_image = (bayer_offset ? std::string(passive_rgb == laser::kRed ? "red" : "blue") +
+                                              " samples of the raw mosaic"
+                                        : std::string("passive colour")) +
                           ", " + std::to_string(camera.width) + "x" + std::to_string(camera.height);
   std::map<int, StampedPose> poses;  // by position in frames.csv
   std::vector<vo::FrameResult> results;
@@ -143,28 +135,16 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     cv::Mat tracking;
     const bool rig_size = raw.cols == rig_camera.width && raw.rows == rig_camera.height;
     if (!raw.empty() && halvings > 0 && rig_size) {
-      cv::Mat passive;
-      if (bayer_offset && raw.channels() == 1) {
-        passive = fusion::SelfReferencedPoseProvider::BayerChannel(raw, *bayer_offset);
-      } else if (!bayer_offset) {
-        passive = fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer,
-                                                                   detector.laser_channel);
-      } else {
+      if (bayer_offset && raw.channels() != 1) {
         warn("frame " + std::to_string(entry.index) + ": a " + std::to_string(raw.channels()) +
              "-channel image where rig.yaml says raw '" + rig_camera.bayer + "' frames");
+      } else {
+        tracking = Tracking::NormalizeIllumination(
+            Tracking::TrackedPassiveImage(raw, rig_camera.bayer, detector.laser_channel,
+                                          bayer_offset, tracked_size),
+            0.01 * camera.width);
       }
-      if (!passive.empty() && passive.size() != tracked_size) {
-        cv::resize(passive, passive, tracked_size, 0, 0, cv::INTER_AREA);
-      }
-      if (!passive.empty()) {
-        tracking =
-            fusion::SelfReferencedPoseProvider::NormalizeIllumination(passive, 0.01 * camera.width);
-      }
-      if (!mask.empty()) {
-        // A tracked pixel is masked if any of its full-resolution pixels is.
-        cv::resize(mask, mask, tracked_size, 0, 0, cv::INTER_AREA);
-        cv::threshold(mask, mask, 0, 255, cv::THRESH_BINARY);
-      }
+      mask = Tracking::TrackedMask(mask, tracked_size);
     } else if (!raw.empty() && halvings > 0) {
       warn("frame " + std::to_string(entry.index) + ": image is " + std::to_string(raw.cols) + "x" +
            std::to_string(raw.rows) + ", camera '" + rig_camera.name + "' is " +

@@ -219,21 +219,11 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
   for (size_t i = 0; i < dormant_.size(); ++i) {
     if (!MaskedNear(mask, dormant_[i].track.pixel, clearance)) candidates.push_back(i);
   }
-  // Grouped by anchor image, the groups in the order they first appear in
-  // dormant_ (not by address: heap addresses differ from run to run when
-  // another thread allocates, and the order decides which of two revived
-  // tracks near the same corner is kept).
-  std::vector<const Pyramid*> anchors;
-  std::vector<size_t> group(dormant_.size(), 0);
-  for (size_t i = 0; i < dormant_.size(); ++i) {
-    const Pyramid* anchor = &dormant_[i].anchor;
-    auto it = std::find_if(anchors.begin(), anchors.end(),
-                           [&](const Pyramid* a) { return *a == *anchor; });
-    group[i] = static_cast<size_t>(it - anchors.begin());
-    if (it == anchors.end()) anchors.push_back(anchor);
-  }
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [&](size_t a, size_t c) { return group[a] < group[c]; });
+  // dormant_ is in the order the tracks went dormant, each with the anchor
+  // of its time, so those of one anchor image stand together: the runs
+  // below are its groups, oldest first. (Not sorted by address: heap
+  // addresses differ from run to run when another thread allocates, and
+  // the order decides which of two tracks revived onto one corner is kept.)
   std::vector<bool> revived(dormant_.size(), false);
   for (size_t begin = 0; begin < candidates.size();) {
     const Pyramid& anchor = dormant_[candidates[begin]].anchor;

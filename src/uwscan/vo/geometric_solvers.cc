@@ -148,25 +148,6 @@ AbsolutePoseResult EstimateAbsolutePose(const std::vector<Ray>& rays_camera,
   return result;
 }
 
-std::optional<Eigen::Vector3d> TriangulateRays(const std::vector<Ray>& rays_world) {
-  if (rays_world.size() < 2) return std::nullopt;
-  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  for (const Ray& ray : rays_world) {
-    const Eigen::Vector3d d = ray.direction.normalized();
-    const Eigen::Matrix3d projector = Eigen::Matrix3d::Identity() - d * d.transpose();
-    a += projector;
-    b += projector * ray.origin;
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(a);
-  if (eigen.eigenvalues()(0) < 1e-10 * eigen.eigenvalues()(2)) return std::nullopt;
-  const Eigen::Vector3d point = a.ldlt().solve(b);
-  for (const Ray& ray : rays_world) {
-    if ((point - ray.origin).dot(ray.direction) <= 0) return std::nullopt;
-  }
-  return point;
-}
-
 double MaxRayAngle(const std::vector<Ray>& rays_world) {
   double min_cos = 1.0;
   for (size_t i = 0; i < rays_world.size(); ++i) {

@@ -64,11 +64,6 @@ AbsolutePoseResult EstimateAbsolutePose(const std::vector<Ray>& rays_camera,
                                         const std::vector<Eigen::Vector3d>& points_world,
                                         const AbsolutePoseOptions& options = {});
 
-// Least-squares intersection of >= 2 world rays (minimises the sum of squared
-// perpendicular distances); nullopt if the rays are (nearly) parallel or the
-// point lies behind a ray origin.
-std::optional<Eigen::Vector3d> TriangulateRays(const std::vector<Ray>& rays_world);
-
 // Largest angle (rad) between any two ray directions.
 double MaxRayAngle(const std::vector<Ray>& rays_world);
 

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "uwscan/eval/port_analysis.h"
+#include "uwscan/sensor/triangulation.h"
 #include "uwscan/vo/cost_functions.h"
 #include "uwscan/vo/windowed_bundle_adjuster.h"
 

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <unordered_set>
 
+#include "uwscan/sensor/triangulation.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/statistics.h"
 #include "uwscan/vo/cost_functions.h"
