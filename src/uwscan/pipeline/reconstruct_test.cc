@@ -337,6 +337,7 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   ASSERT_GT(std::count(trajectories[0].begin(), trajectories[0].end(), '\n'), 20);
   EXPECT_EQ(trajectories[1], trajectories[0]);
   EXPECT_EQ(trajectories[2], trajectories[0]);
+  fs::remove_all(root);
 }
 
 TEST_F(ReconstructTest, BadInputIsAClearErrorWithoutOutput) {

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <type_traits>
 
 #include "uwscan/sensor/camera.h"
 #include "uwscan/sensor/flatport.h"
@@ -76,22 +77,28 @@ class ReprojectionCost {
                                                  start, iterations_, pixel);
   }
 
+  // The residual of a point already in the camera frame.
   template <typename T>
-  bool operator()(const T* q, const T* t, const T* point_world, T* residual) const {
-    T point_camera[3], pixel[2];
-    TransformToCamera(q, t, point_world, point_camera);
+  bool Residual(const T* point_camera, T* residual) const {
+    T pixel[2];
     if (!Project(point_camera, pixel)) return false;
     residual[0] = (pixel[0] - T(observed_.x())) * T(inverse_sigma_);
     residual[1] = (pixel[1] - T(observed_.y())) * T(inverse_sigma_);
     return true;
   }
 
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* point_world, T* residual) const {
+    T point_camera[3];
+    TransformToCamera(q, t, point_world, point_camera);
+    return Residual(point_camera, residual);
+  }
+
+  // Parameter blocks q (4), t (3), point_world (3); derivatives by the
+  // chain rule (ChainedReprojection below).
   static ceres::CostFunction* Create(const CameraParams& camera, ProjectionMethod method,
                                      int taylor_iterations, const Eigen::Vector2d& observed,
-                                     double sigma_px = 1.0) {
-    return new ceres::AutoDiffCostFunction<ReprojectionCost, 2, 4, 3, 3>(
-        new ReprojectionCost(camera, method, taylor_iterations, observed, sigma_px));
-  }
+                                     double sigma_px = 1.0);
 
  private:
   CameraParams camera_;
@@ -112,11 +119,9 @@ class PoseReprojectionCost {
     const T point[3] = {T(point_.x()), T(point_.y()), T(point_.z())};
     return cost_(q, t, point, residual);
   }
+  // Parameter blocks q (4), t (3).
   static ceres::CostFunction* Create(const ReprojectionCost& cost,
-                                     const Eigen::Vector3d& point_world) {
-    return new ceres::AutoDiffCostFunction<PoseReprojectionCost, 2, 4, 3>(
-        new PoseReprojectionCost(cost, point_world));
-  }
+                                     const Eigen::Vector3d& point_world);
 
  private:
   ReprojectionCost cost_;
@@ -153,5 +158,89 @@ class RangeCost {
   double range_;
   double inverse_sigma_;
 };
+
+// A ReprojectionCost differentiated in two stages and chained: the rigid
+// transform over the pose (and point) parameters, the projection only over
+// the three coordinates of the point in the camera frame. The values and
+// derivatives are those of automatic differentiation over all parameters,
+// but the refractive projection, nearly all of the cost, runs on Jets of 3
+// instead of 7 (pose refinement) or 10 (bundle adjustment) derivatives.
+template <bool kPointIsParameter>
+class ChainedReprojection final
+    : public std::conditional_t<kPointIsParameter, ceres::SizedCostFunction<2, 4, 3, 3>,
+                                ceres::SizedCostFunction<2, 4, 3>> {
+ public:
+  ChainedReprojection(const ReprojectionCost& cost, const Eigen::Vector3d& fixed_point)
+      : cost_(cost), fixed_point_(fixed_point) {}
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double* q = parameters[0];
+    const double* t = parameters[1];
+    const double* point = kPointIsParameter ? parameters[2] : fixed_point_.data();
+    if (!jacobians) {
+      double point_camera[3];
+      TransformToCamera(q, t, point, point_camera);
+      return cost_.Residual(point_camera, residuals);
+    }
+    // Stage 1: point_camera and its derivatives over q (and the point);
+    // over t it is the identity.
+    constexpr int kTransformDims = kPointIsParameter ? 7 : 4;
+    using TransformJet = ceres::Jet<double, kTransformDims>;
+    TransformJet qj[4], pj[3], tj[3], cj[3];
+    for (int i = 0; i < 4; ++i) qj[i] = TransformJet(q[i], i);
+    for (int i = 0; i < 3; ++i) {
+      tj[i] = TransformJet(t[i]);
+      pj[i] = kPointIsParameter ? TransformJet(point[i], 4 + i) : TransformJet(point[i]);
+    }
+    TransformToCamera(qj, tj, pj, cj);
+    // Stage 2: the residual and its derivatives over point_camera.
+    using ProjectionJet = ceres::Jet<double, 3>;
+    ProjectionJet camera_point[3], residual[2];
+    for (int i = 0; i < 3; ++i) camera_point[i] = ProjectionJet(cj[i].a, i);
+    if (!cost_.Residual(camera_point, residual)) return false;
+    residuals[0] = residual[0].a;
+    residuals[1] = residual[1].a;
+    // Chain: d r / d x = (d r / d point_camera) (d point_camera / d x).
+    for (int r = 0; r < 2; ++r) {
+      if (jacobians[0]) {
+        for (int c = 0; c < 4; ++c) {
+          double sum = 0.0;
+          for (int k = 0; k < 3; ++k) sum += residual[r].v[k] * cj[k].v[c];
+          jacobians[0][r * 4 + c] = sum;
+        }
+      }
+      if (jacobians[1]) {
+        for (int c = 0; c < 3; ++c) jacobians[1][r * 3 + c] = residual[r].v[c];
+      }
+      if (kPointIsParameter && jacobians[2]) {
+        for (int c = 0; c < 3; ++c) {
+          double sum = 0.0;
+          for (int k = 0; k < 3; ++k) sum += residual[r].v[k] * cj[k].v[4 + c];
+          jacobians[2][r * 3 + c] = sum;
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  ReprojectionCost cost_;
+  Eigen::Vector3d fixed_point_;  // when the point is not a parameter
+};
+
+inline ceres::CostFunction* ReprojectionCost::Create(const CameraParams& camera,
+                                                     ProjectionMethod method, int taylor_iterations,
+                                                     const Eigen::Vector2d& observed,
+                                                     double sigma_px) {
+  return new ChainedReprojection<true>(
+      ReprojectionCost(camera, method, taylor_iterations, observed, sigma_px),
+      Eigen::Vector3d::Zero());
+}
+
+inline ceres::CostFunction* PoseReprojectionCost::Create(const ReprojectionCost& cost,
+                                                         const Eigen::Vector3d& point_world) {
+  return new ChainedReprojection<false>(cost, point_world);
+}
 
 }  // namespace uwscan::vo

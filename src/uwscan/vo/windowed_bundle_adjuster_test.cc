@@ -43,6 +43,65 @@ TEST(CostFunctions, JacobiansMatchNumericDifferentiation) {
   EXPECT_LT(std::hypot(residual[0], residual[1]), 1e-9);
 }
 
+// The chained derivatives (projection differentiated over the camera-frame
+// point only) are those of automatic differentiation over all parameters,
+// for the point as a parameter and held fixed, for every projection.
+TEST(CostFunctions, ChainedDerivativesEqualFullAutomaticDifferentiation) {
+  const Camera camera = DeepPortCamera();
+  const CameraParams params(camera);
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond(Eigen::AngleAxisd(-0.4, Eigen::Vector3d(0.2, 1, -0.7).normalized()));
+  const double rotation[4] = {q.x(), q.y(), q.z(), q.w()};
+  const double translation[3] = {-0.05, 0.15, 0.2};
+  const double point[3] = {0.3, 0.5, 2.4};
+  const Eigen::Vector3d in_camera =
+      q * Eigen::Vector3d(point[0], point[1], point[2]) + Eigen::Vector3d(translation);
+  const Eigen::Vector2d observed = *camera.Project(in_camera) + Eigen::Vector2d(0.6, -0.3);
+  for (ProjectionMethod method :
+       {ProjectionMethod::kExact, ProjectionMethod::kTaylor, ProjectionMethod::kPinhole}) {
+    const ReprojectionCost functor(params, method, 2, observed, 0.7);
+    std::unique_ptr<ceres::CostFunction> chained(
+        ReprojectionCost::Create(params, method, 2, observed, 0.7));
+    ceres::AutoDiffCostFunction<ReprojectionCost, 2, 4, 3, 3> full(new ReprojectionCost(functor));
+    std::unique_ptr<ceres::CostFunction> chained_pose(
+        PoseReprojectionCost::Create(functor, Eigen::Vector3d(point[0], point[1], point[2])));
+    ceres::AutoDiffCostFunction<PoseReprojectionCost, 2, 4, 3> full_pose(
+        new PoseReprojectionCost(functor, Eigen::Vector3d(point[0], point[1], point[2])));
+    const double* blocks[3] = {rotation, translation, point};
+    double r_chained[2], r_full[2], r_pose[2], r_full_pose[2];
+    double jc[3][8], jf[3][8], jp[2][8], jfp[2][8];
+    double* jc_ptr[3] = {jc[0], jc[1], jc[2]};
+    double* jf_ptr[3] = {jf[0], jf[1], jf[2]};
+    double* jp_ptr[2] = {jp[0], jp[1]};
+    double* jfp_ptr[2] = {jfp[0], jfp[1]};
+    ASSERT_TRUE(chained->Evaluate(blocks, r_chained, jc_ptr));
+    ASSERT_TRUE(full.Evaluate(blocks, r_full, jf_ptr));
+    ASSERT_TRUE(chained_pose->Evaluate(blocks, r_pose, jp_ptr));
+    ASSERT_TRUE(full_pose.Evaluate(blocks, r_full_pose, jfp_ptr));
+    const int sizes[3] = {8, 6, 6};
+    for (int r = 0; r < 2; ++r) {
+      EXPECT_NEAR(r_chained[r], r_full[r], 1e-9) << int(method);
+      EXPECT_NEAR(r_pose[r], r_full[r], 1e-9) << int(method);
+      EXPECT_NEAR(r_full_pose[r], r_full[r], 1e-9) << int(method);
+    }
+    for (int b = 0; b < 3; ++b) {
+      for (int i = 0; i < sizes[b]; ++i) {
+        const double tolerance = 1e-9 * (1.0 + std::abs(jf[b][i]));
+        EXPECT_NEAR(jc[b][i], jf[b][i], tolerance) << int(method) << " block " << b << " " << i;
+        if (b < 2) {
+          EXPECT_NEAR(jp[b][i], jf[b][i], tolerance) << int(method) << " block " << b;
+          EXPECT_NEAR(jfp[b][i], jf[b][i], tolerance) << int(method) << " block " << b;
+        }
+      }
+    }
+    // No Jacobians asked: the residual alone.
+    double r_only[2];
+    ASSERT_TRUE(chained->Evaluate(blocks, r_only, nullptr));
+    EXPECT_NEAR(r_only[0], r_chained[0], 1e-9);
+    EXPECT_NEAR(r_only[1], r_chained[1], 1e-9);
+  }
+}
+
 struct Synthetic {
   SparseMap map;
   std::vector<Rigid3d> truth;  // camera_from_world per keyframe
