@@ -84,6 +84,10 @@ void RegisterBenchCommands(CLI::App& app) {
   pipeline->add_option("--height", pipeline_options->height)->capture_default_str();
   pipeline->add_flag("--async-ba", pipeline_options->async_bundle_adjustment,
                      "windowed BA on a second thread, as reconstruct --async-ba");
+  pipeline
+      ->add_option("--track-every", pipeline_options->track_every, "as reconstruct --track-every")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   pipeline->callback([pipeline_options, pipeline_dataset] {
     pipeline_options->dataset = *pipeline_dataset;
     std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";

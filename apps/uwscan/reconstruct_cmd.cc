@@ -57,6 +57,11 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "the odometry tracks the image halved until it is at most this wide (0 = full "
                   "resolution)")
       ->capture_default_str();
+  cmd->add_option("--track-every", job->self_referenced.track_every,
+                  "the odometry tracks every Nth frame once running; the frames between get "
+                  "poses interpolated between the tracked ones (faster at high frame rates)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
                   "keyframes in the odometry's windowed bundle adjustment")
       ->capture_default_str();

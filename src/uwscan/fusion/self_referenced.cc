@@ -15,7 +15,7 @@ void SelfReferencedOptions::Check() const {
   surface.Check();
   line_ranges.Check();
   UWS_CHECK(mask_dilation_px >= 0 && max_init_frames >= 2 && init_attempt_every >= 1 &&
-                max_tracking_width >= 0 && init_refinements >= 0,
+                max_tracking_width >= 0 && init_refinements >= 0 && track_every >= 1,
             "self-referenced odometry: invalid options");
 }
 
@@ -138,6 +138,12 @@ SelfReferencedPoseProvider::SelfReferencedPoseProvider(const Camera& camera, int
                                                        const SelfReferencedOptions& options)
     : camera_(camera), laser_channel_(laser_channel), options_(options) {
   options_.Check();
+  // Keyframes at the latest after the same time, not the same count of
+  // tracked frames.
+  int& keyframe_interval = options_.odometry.max_frames_between_keyframes;
+  if (keyframe_interval > 0)
+    keyframe_interval =
+        std::max(1, (keyframe_interval + options_.track_every / 2) / options_.track_every);
   tracking_halvings_ = TrackingHalvings(camera_.width, options_.max_tracking_width);
   tracking_camera_ = TrackingCamera(camera_, tracking_halvings_, std::nullopt);
   smoother_ = std::make_unique<PoseSmoother>(options_.smoothing_half_window);
@@ -157,10 +163,8 @@ void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, doub
   out->insert(out->end(), final_poses.begin(), final_poses.end());
 }
 
-std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame) {
-  preliminary_.clear();
-  if (frames_ == 0) ChooseTrackedImage(frame.image);
-  ++frames_;
+SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
+    const FrameInput& frame, const cv::Mat& line_mask) const {
   Held held;
   held.input = frame;
   UWS_CHECK(!bayer_offset_ || frame.image.channels() == 1, "frame ", frame.index,
@@ -171,19 +175,33 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
       options_.illumination_sigma_fraction * tracking_camera_.width);
   held.input.detection = nullptr;
   held.input.profile = nullptr;
-  if (frame.detection && !frame.detection->mask.empty()) {
+  if (!line_mask.empty()) {
     const int d = options_.mask_dilation_px;
-    cv::dilate(frame.detection->mask, held.mask,
+    cv::dilate(line_mask, held.mask,
                cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
     held.mask = TrackedMask(held.mask, tracked);
   }
   if (frame.profile) held.profile = *frame.profile;
+  return held;
+}
 
-  if (running_) {
-    std::vector<PoseUpdate> updates;
-    Emit(Track(held), held.input.timestamp_s, &updates);
-    return updates;
+std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame) {
+  preliminary_.clear();
+  if (frames_ == 0) ChooseTrackedImage(frame.image);
+  ++frames_;
+  const cv::Mat no_mask;
+  const cv::Mat& line_mask = frame.detection ? frame.detection->mask : no_mask;
+  if (running_ && static_cast<int>(skipped_.size()) + 1 < options_.track_every) {
+    UWS_CHECK(!bayer_offset_ || frame.image.channels() == 1, "frame ", frame.index,
+              ": a colour image in a sequence of raw Bayer frames");
+    Skipped skipped{frame, line_mask.clone(), frame.profile ? *frame.profile : laser::Profile{}};
+    skipped.input.detection = nullptr;
+    skipped.input.profile = nullptr;
+    skipped_.push_back(std::move(skipped));
+    return {};
   }
+  Held held = Prepare(frame, line_mask);
+  if (running_) return TrackAfterSkipped(held);
   GuessHeldMotion(&held);
   held_.push_back(std::move(held));
   if (static_cast<int>(held_.size()) % options_.init_attempt_every != 0 && held_.size() > 1)
@@ -411,10 +429,41 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
   return PoseUpdate{frame.input.index, pose};
 }
 
+std::vector<PoseUpdate> SelfReferencedPoseProvider::TrackAfterSkipped(const Held& frame) {
+  const std::optional<Rigid3d> before = last_pose_;
+  const double before_s = last_time_s_;
+  std::vector<Skipped> skipped;
+  skipped.swap(skipped_);
+  const std::optional<PoseUpdate> raw = Track(frame);
+  std::vector<PoseUpdate> updates;
+  if (raw && before) {
+    const std::vector<StampedPose> ends = {{before_s, *before},
+                                           {frame.input.timestamp_s, raw->world_from_camera}};
+    for (const Skipped& s : skipped) {
+      const auto pose = InterpolatePose(ends, s.input.timestamp_s, 0.0);
+      if (!pose) continue;
+      surface_->AddProfile(*pose, s.profile);
+      ++interpolated_;
+      Emit(PoseUpdate{s.input.index, *pose}, s.input.timestamp_s, &updates);
+    }
+  }
+  Emit(raw, frame.input.timestamp_s, &updates);
+  return updates;
+}
+
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Finish() {
   std::vector<PoseUpdate> updates;
+  if (running_ && !skipped_.empty()) {
+    // The last frames were not tracked: track the last of them.
+    Skipped last = std::move(skipped_.back());
+    skipped_.pop_back();
+    last.input.profile = &last.profile;
+    updates = TrackAfterSkipped(Prepare(last.input, last.line_mask));
+  }
+  skipped_.clear();
   if (!running_ && !held_.empty()) {
-    updates = TryInitialize();
+    const auto initialised = TryInitialize();
+    updates.insert(updates.end(), initialised.begin(), initialised.end());
     dropped_ += static_cast<int>(held_.size());
     held_.clear();
   }
@@ -426,6 +475,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
   return {{"frames", frames_},
           {"tracked_image_width", tracking_camera_.width},
           {"tracked", tracked_},
+          {"interpolated_between_tracked", interpolated_},
           {"lost", lost_},
           {"reinitialisations", reinitialisations_},
           {"frames_without_pose_at_start", dropped_},

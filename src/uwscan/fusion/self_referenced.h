@@ -59,6 +59,13 @@ struct SelfReferencedOptions {
   // the map starts (GuessHeldMotion); on a hover it finds no parallax and
   // changes nothing.
   bool guess_held_motion = true;
+  // Once tracking runs, the odometry sees every Nth frame only; the frames
+  // between get their pose interpolated (slerp) from the two tracked frames
+  // around them, and their profiles join the surface with it. At 144 Hz a
+  // hovering platform's motion is smooth over a few frames, so tracking at
+  // 72 Hz loses nothing the pose noise does not swamp, at about half the
+  // odometry's cost. 1: every frame.
+  int track_every = 1;
   void Check() const;
 };
 
@@ -135,6 +142,11 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // one, else `origin` (the first held frame's pose).
   Rigid3d PoseGuess(size_t i, const Rigid3d& origin) const;
   std::optional<PoseUpdate> Track(const Held& frame);
+  // The tracked image and mask of a frame (the input's image is replaced).
+  Held Prepare(const FrameInput& frame, const cv::Mat& line_mask) const;
+  // Tracks `frame`, then places the skipped frames before it between the
+  // last pose and its own (options_.track_every).
+  std::vector<PoseUpdate> TrackAfterSkipped(const Held& frame);
   // Tracking lost or not believed: drop the map and hold frames again.
   void Restart();
   // Raw poses through the smoother; a gap flushes it.
@@ -154,6 +166,15 @@ class SelfReferencedPoseProvider : public PoseProvider {
   std::unique_ptr<SurfaceModel> init_surface_;
   size_t init_surface_frames_ = 0;
   std::deque<Held> held_;
+  // Frames not tracked since the last tracked one (track_every > 1): the
+  // raw image and the line mask kept, prepared only if the sequence ends
+  // before the next tracked frame.
+  struct Skipped {
+    FrameInput input;   // image shared with the caller, detection and profile unset
+    cv::Mat line_mask;  // cloned
+    laser::Profile profile;
+  };
+  std::vector<Skipped> skipped_;
   std::unique_ptr<vo::Odometry> guess_odometry_;
   int guess_frames_ = 0;
   bool guess_failed_ = false;
@@ -162,6 +183,7 @@ class SelfReferencedPoseProvider : public PoseProvider {
   double last_time_s_ = 0.0;
   int implausible_ = 0;
   // Statistics.
+  int interpolated_ = 0;  // frames placed between tracked ones
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association

@@ -147,6 +147,36 @@ TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) 
   fs::remove_all(root);
 }
 
+// Tracking every third frame only: the frames between (and the last ones,
+// tracked at the end) get interpolated poses, every frame is placed, and
+// the cloud stays about as good as with every frame tracked.
+TEST(SelfReferencedPoseProvider, FramesBetweenTrackedOnesGetInterpolatedPoses) {
+  ReconstructJob job = SimulatedHover("every", 80, 7);
+  const fs::path root = job.dataset.parent_path();
+  std::map<int, double> point_error_mm;
+  std::map<int, int> without_pose, interpolated;
+  double uncompensated_mm = 0.0;
+  for (const int every : {1, 3}) {
+    job.out = root / ("every" + std::to_string(every));
+    job.self_referenced.track_every = every;
+    const ReconstructReport report = RunReconstruct(job);
+    without_pose[every] = report.frames_without_pose;
+    interpolated[every] = report.pose_details["interpolated_between_tracked"].get<int>();
+    const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+    point_error_mm[every] = 1e3 * evaluation.compensated.point_error_rms_m;
+    uncompensated_mm = 1e3 * evaluation.uncompensated.point_error_rms_m;
+  }
+  std::printf("point error %.2f mm tracking every frame, %.2f mm every third, %.2f uncompensated\n",
+              point_error_mm[1], point_error_mm[3], uncompensated_mm);
+  EXPECT_EQ(without_pose[1], 0);
+  EXPECT_EQ(without_pose[3], 0);  // the last frames too, tracked at the end
+  EXPECT_EQ(interpolated[1], 0);
+  EXPECT_GT(interpolated[3], 20);
+  EXPECT_LT(point_error_mm[3], 1.5 * point_error_mm[1]);
+  EXPECT_LT(point_error_mm[3], 0.5 * uncompensated_mm);
+  fs::remove_all(root);
+}
+
 // What a provider reported: its raw poses (Preliminary, after each Add)
 // and the final ones.
 struct Reported {

@@ -14,6 +14,7 @@ struct PipelineBenchmarkOptions {
   int width = 1280;
   int height = 960;
   bool async_bundle_adjustment = false;  // as reconstruct --async-ba
+  int track_every = 1;                   // as reconstruct --track-every
   void Check() const;
 };
 
