@@ -86,9 +86,11 @@ void RegisterBenchCommands(CLI::App& app) {
                      "windowed BA on a second thread, as reconstruct --async-ba");
   pipeline
       ->add_option("--track-every", pipeline_options->track_every, "as reconstruct --track-every")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->capture_default_str();
   pipeline->callback([pipeline_options, pipeline_dataset] {
+    if (pipeline_options->track_every < 1)
+      throw UsageError("--track-every must be >= 1, got " +
+                       std::to_string(pipeline_options->track_every));
     pipeline_options->dataset = *pipeline_dataset;
     std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
   });

@@ -1,5 +1,6 @@
 // uwscan reconstruct: the self-referenced scan of a dataset.
 #include <cstdio>
+#include <string>
 
 #include "commands.h"
 #include "uwscan/pipeline/reconstruct.h"
@@ -60,8 +61,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--track-every", job->self_referenced.track_every,
                   "the odometry tracks every Nth frame once running; the frames between get "
                   "poses interpolated between the tracked ones (faster at high frame rates)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->capture_default_str();
   cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
                   "keyframes in the odometry's windowed bundle adjustment")
       ->capture_default_str();
@@ -97,6 +97,12 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->epipolar_texture = !*no_epipolar;
     job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
+    if (job->self_referenced.track_every < 1)
+      throw UsageError("--track-every must be >= 1, got " +
+                       std::to_string(job->self_referenced.track_every));
+    if (job->self_referenced.max_tracking_width < 0)
+      throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
+                       std::to_string(job->self_referenced.max_tracking_width));
     if (*no_line_ranges && *line_ranges) {
       throw UsageError("--line-ranges and --no-line-ranges exclude each other");
     }

@@ -77,6 +77,10 @@ expect_status 0 "two pods, first camera" "$uwscan" reconstruct --dataset "$work/
 expect_status 1 "two pods, cam1 on the top folder" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.cam1" --poses "$work/pods/groundtruth.tum" --camera cam1 --quiet
 grep -q "pods/cam1" "$work/err" || fail "two pods: --camera cam1 error does not say where"
+expect_status 2 "reconstruct --track-every 0" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.every0" --track-every 0 --quiet
+grep -q "track-every must be >= 1, got 0" "$work/err" || fail "--track-every 0: unclear error"
+[ ! -e "$work/pods.every0" ] || fail "--track-every 0 created its output folder"
 
 # Usage errors: exit 2.
 expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"

@@ -14,9 +14,18 @@ void SelfReferencedOptions::Check() const {
   odometry.Check();
   surface.Check();
   line_ranges.Check();
-  UWS_CHECK(mask_dilation_px >= 0 && max_init_frames >= 2 && init_attempt_every >= 1 &&
-                max_tracking_width >= 0 && init_refinements >= 0 && track_every >= 1,
-            "self-referenced odometry: invalid options");
+  const std::string context = "self-referenced odometry: ";
+  UWS_CHECK(mask_dilation_px >= 0, context, "mask dilation must be >= 0 px, got ",
+            mask_dilation_px);
+  UWS_CHECK(max_init_frames >= 2, context, "at least 2 frames must be held at the start, got ",
+            max_init_frames);
+  UWS_CHECK(init_attempt_every >= 1, context,
+            "initialisation attempts must be at least 1 frame apart, got ", init_attempt_every);
+  UWS_CHECK(max_tracking_width >= 0, context,
+            "the tracking width must be >= 0 (0 = full resolution), got ", max_tracking_width);
+  UWS_CHECK(init_refinements >= 0, context, "init refinements must be >= 0, got ",
+            init_refinements);
+  UWS_CHECK(track_every >= 1, context, "track every N frames needs N >= 1, got ", track_every);
 }
 
 std::optional<cv::Point> SelfReferencedPoseProvider::BayerSampleOffset(const std::string& bayer,
