@@ -176,8 +176,6 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
     const FrameInput& frame, const cv::Mat& line_mask) const {
   Held held;
   held.input = frame;
-  UWS_CHECK(!bayer_offset_ || frame.image.channels() == 1, "frame ", frame.index,
-            ": a colour image in a sequence of raw Bayer frames");
   const cv::Size tracked(tracking_camera_.width, tracking_camera_.height);
   held.input.image = NormalizeIllumination(
       TrackedPassiveImage(frame.image, camera_.bayer, laser_channel_, bayer_offset_, tracked),
@@ -198,11 +196,11 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   preliminary_.clear();
   if (frames_ == 0) ChooseTrackedImage(frame.image);
   ++frames_;
+  UWS_CHECK(!bayer_offset_ || frame.image.channels() == 1, "frame ", frame.index,
+            ": a colour image in a sequence of raw Bayer frames");
   const cv::Mat no_mask;
   const cv::Mat& line_mask = frame.detection ? frame.detection->mask : no_mask;
   if (running_ && static_cast<int>(skipped_.size()) + 1 < options_.track_every) {
-    UWS_CHECK(!bayer_offset_ || frame.image.channels() == 1, "frame ", frame.index,
-              ": a colour image in a sequence of raw Bayer frames");
     Skipped skipped{frame, line_mask.clone(), frame.profile ? *frame.profile : laser::Profile{}};
     skipped.input.detection = nullptr;
     skipped.input.profile = nullptr;
