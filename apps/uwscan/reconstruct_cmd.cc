@@ -87,6 +87,10 @@ void RegisterReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--async-ba", job->self_referenced.odometry.async_bundle_adjustment,
                 "windowed BA on a second thread (faster; results then depend on thread timing)");
+  cmd->add_flag("--oracle-depths", job->oracle_depths,
+                "diagnostics on simulated datasets: the odometry's features take their depth "
+                "from the simulator's true scene instead of the laser surface (what the "
+                "odometry does with a perfect depth model)");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
   cmd->callback([=] {
     job->dataset = *dataset;
@@ -103,6 +107,11 @@ void RegisterReconstructCommand(CLI::App& app) {
     if (job->self_referenced.max_tracking_width < 0)
       throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                        std::to_string(job->self_referenced.max_tracking_width));
+    if (job->oracle_depths && !poses->empty()) {
+      throw UsageError(
+          "--oracle-depths and --poses exclude each other (the oracle feeds the "
+          "odometry, which --poses replaces)");
+    }
     if (*no_line_ranges && *line_ranges) {
       throw UsageError("--line-ranges and --no-line-ranges exclude each other");
     }

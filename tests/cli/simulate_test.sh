@@ -81,6 +81,9 @@ expect_status 2 "reconstruct --track-every 0" "$uwscan" reconstruct --dataset "$
   --out "$work/pods.every0" --track-every 0 --quiet
 grep -q "track-every must be >= 1, got 0" "$work/err" || fail "--track-every 0: unclear error"
 [ ! -e "$work/pods.every0" ] || fail "--track-every 0 created its output folder"
+expect_status 2 "reconstruct --oracle-depths --poses" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.oracle" --oracle-depths --poses "$work/pods/groundtruth.tum" --quiet
+grep -q "oracle-depths and --poses exclude each other" "$work/err" || fail "--oracle-depths --poses: unclear error"
 
 # Usage errors: exit 2.
 expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"

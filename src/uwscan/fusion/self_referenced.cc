@@ -375,6 +375,23 @@ bool SelfReferencedPoseProvider::StartOdometry(const Rigid3d& origin) {
     if (!hit) return std::nullopt;
     return vo::SurfaceHit{hit->point, hit->sigma_m, hit->extrapolated};
   };
+  if (const auto oracle = options_.depth_oracle) {
+    // The odometry's world is the first held frame's pose `origin`; the
+    // truth's is the simulator's.
+    const auto true_first = oracle->true_pose(held_.front().input.timestamp_s);
+    UWS_CHECK(true_first.has_value(), "depth oracle: no true pose at ",
+              held_.front().input.timestamp_s, " s");
+    const Rigid3d truth_from_world = *true_first * origin.Inverse();
+    const Rigid3d world_from_truth = truth_from_world.Inverse();
+    const double sigma = options_.surface.local_sigma_m;
+    odometry_options.surface = [oracle, truth_from_world, world_from_truth, sigma](
+                                   const Eigen::Vector3d& o,
+                                   const Eigen::Vector3d& d) -> std::optional<vo::SurfaceHit> {
+      const auto hit = oracle->intersect(truth_from_world * o, truth_from_world.rotation * d);
+      if (!hit) return std::nullopt;
+      return vo::SurfaceHit{world_from_truth * *hit, sigma, false};
+    };
+  }
   odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, odometry_options);
   const Held& first = held_.front();
   const vo::FrameResult start = odometry_->InitializeFromSurface(first.input.image, first.mask,

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -23,6 +24,19 @@
 #include "uwscan/vo/odometry.h"
 
 namespace uwscan::fusion {
+
+// Diagnostics on simulated data (`uwscan reconstruct --oracle-depths`): the
+// true scene and trajectory, so that features can take their depth from the
+// truth instead of the laser surface: what the odometry does with a perfect
+// depth model.
+struct DepthOracle {
+  // The true world_from_camera of the tracked camera at a timestamp.
+  std::function<std::optional<Rigid3d>(double timestamp_s)> true_pose;
+  // The nearest point where a ray of the true world meets the scene.
+  std::function<std::optional<Eigen::Vector3d>(const Eigen::Vector3d& origin,
+                                               const Eigen::Vector3d& direction)>
+      intersect;
+};
 
 struct SelfReferencedOptions {
   vo::OdometryOptions odometry;
@@ -66,6 +80,9 @@ struct SelfReferencedOptions {
   // tank hovers' clouds stay within the seeds' spread and the pose
   // estimation takes ~20 % less time (BENCHMARKS.md). 1: every frame.
   int track_every = 1;
+  // When set, features take their depth from the truth (DepthOracle), not
+  // from the laser surface; the surface still decides when the map starts.
+  std::shared_ptr<const DepthOracle> depth_oracle;
   void Check() const;
 };
 

@@ -177,6 +177,40 @@ TEST(SelfReferencedPoseProvider, FramesBetweenTrackedOnesGetInterpolatedPoses) {
   fs::remove_all(root);
 }
 
+// --oracle-depths (diagnostics): the features take their depth from the
+// simulator's truth. The odometry then tracks with a perfect depth model;
+// the cloud must be at least about as good as with the laser surface, and
+// without the scene the option is a clear error.
+TEST(SelfReferencedPoseProvider, OracleDepthsComeFromTheSimulatorsTruth) {
+  ReconstructJob job = SimulatedHover("oracle", 60, 8);
+  const fs::path root = job.dataset.parent_path();
+  job.out = root / "surface";
+  RunReconstruct(job);
+  const double surface_mm =
+      1e3 * EvaluateReconstruction(job.dataset, job.out).compensated.point_error_rms_m;
+  job.out = root / "oracle";
+  job.oracle_depths = true;
+  const ReconstructReport report = RunReconstruct(job);
+  EXPECT_NE(report.pose_source.find("--oracle-depths"), std::string::npos) << report.pose_source;
+  EXPECT_LT(report.frames_without_pose, 20);
+  const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+  const double oracle_mm = 1e3 * evaluation.compensated.point_error_rms_m;
+  std::printf("point error %.2f mm with the laser surface's depths, %.2f mm with the truth's\n",
+              surface_mm, oracle_mm);
+  EXPECT_LT(oracle_mm, 1.5 * surface_mm);
+  EXPECT_LT(oracle_mm, 0.5 * 1e3 * evaluation.uncompensated.point_error_rms_m);
+  fs::remove(job.dataset / "scene.yaml");
+  job.out = root / "no_scene";
+  try {
+    RunReconstruct(job);
+    ADD_FAILURE() << "no error without scene.yaml";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.yaml"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(job.out / "cloud.ply"));
+  fs::remove_all(root);
+}
+
 // What a provider reported: its raw poses (Preliminary, after each Add)
 // and the final ones.
 struct Reported {

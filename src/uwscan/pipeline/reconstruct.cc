@@ -15,6 +15,7 @@
 #include "uwscan/io/tum.h"
 #include "uwscan/laser/profile.h"
 #include "uwscan/pipeline/line_stage.h"
+#include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/progress.h"
@@ -214,6 +215,29 @@ std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& ri
   return others;
 }
 
+// The simulator's truth for --oracle-depths: scene and true trajectory.
+std::shared_ptr<const fusion::DepthOracle> LoadDepthOracle(const fs::path& dataset) {
+  UWS_CHECK(fs::exists(dataset / "scene.yaml"), (dataset / "scene.yaml").string(),
+            ": missing: --oracle-depths needs a simulated dataset with its scene");
+  UWS_CHECK(fs::exists(dataset / "groundtruth.tum"), (dataset / "groundtruth.tum").string(),
+            ": missing: --oracle-depths needs the true trajectory");
+  auto scenario = std::make_shared<sim::Scenario>(sim::LoadDatasetScenario(dataset));
+  scenario->config.scene.Prepare();
+  auto truth = std::make_shared<std::vector<StampedPose>>(ReadTum(dataset / "groundtruth.tum"));
+  auto oracle = std::make_shared<fusion::DepthOracle>();
+  oracle->true_pose = [truth](double timestamp_s) {
+    return fusion::InterpolatePose(*truth, timestamp_s, 0.01);
+  };
+  oracle->intersect = [scenario](
+                          const Eigen::Vector3d& origin,
+                          const Eigen::Vector3d& direction) -> std::optional<Eigen::Vector3d> {
+    const auto hit = scenario->config.scene.Intersect(origin, direction);
+    if (!hit) return std::nullopt;
+    return hit->point_world;
+  };
+  return oracle;
+}
+
 }  // namespace
 
 ReconstructReport RunReconstruct(const ReconstructJob& job,
@@ -246,6 +270,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   if (!provider) {
     fusion::SelfReferencedOptions options = job.self_referenced;
     options.use_line_ranges = job.line_ranges.value_or(!LaserSweeps(frames));
+    if (job.oracle_depths) options.depth_oracle = LoadDepthOracle(job.dataset);
     report.line_ranges = options.use_line_ranges;
     provider = std::make_unique<fusion::SelfReferencedPoseProvider>(
         camera, line_stage.detector().laser_channel, options);
@@ -259,6 +284,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   TumWriter trajectory(job.out / "trajectory.tum");
 
   report.pose_source = provider->Name();
+  if (job.oracle_depths && !job.poses_file)
+    report.pose_source += " (feature depths from the simulator's truth: --oracle-depths)";
   report.scan_lines = line_stage.ScanLines();
   const double frame_interval =
       frames.size() > 1

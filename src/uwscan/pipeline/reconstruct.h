@@ -54,6 +54,10 @@ struct ReconstructJob {
   bool other_cameras = true;
   int max_frames = 0;  // 0: all
   bool quiet = false;
+  // Diagnostics on simulated datasets: the odometry's features take their
+  // depth from the simulator's true scene (scene.yaml, groundtruth.tum)
+  // instead of the laser surface (fusion::DepthOracle).
+  bool oracle_depths = false;
   void Check() const;
 };
 
