@@ -88,9 +88,6 @@ void RegisterBenchCommands(CLI::App& app) {
       ->add_option("--track-every", pipeline_options->track_every, "as reconstruct --track-every")
       ->capture_default_str();
   pipeline->callback([pipeline_options, pipeline_dataset] {
-    if (pipeline_options->track_every < 1)
-      throw UsageError("--track-every must be >= 1, got " +
-                       std::to_string(pipeline_options->track_every));
     pipeline_options->dataset = *pipeline_dataset;
     std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
   });

@@ -101,17 +101,6 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->epipolar_texture = !*no_epipolar;
     job->drop_albedo_edges = !*keep_albedo_edges;
     job->detect_on_difference = !*no_difference;
-    if (job->self_referenced.track_every < 1)
-      throw UsageError("--track-every must be >= 1, got " +
-                       std::to_string(job->self_referenced.track_every));
-    if (job->self_referenced.max_tracking_width < 0)
-      throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
-                       std::to_string(job->self_referenced.max_tracking_width));
-    if (job->oracle_depths && !poses->empty()) {
-      throw UsageError(
-          "--oracle-depths and --poses exclude each other (the oracle feeds the "
-          "odometry, which --poses replaces)");
-    }
     if (*no_line_ranges && *line_ranges) {
       throw UsageError("--line-ranges and --no-line-ranges exclude each other");
     }

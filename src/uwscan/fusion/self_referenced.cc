@@ -105,8 +105,8 @@ cv::Mat SelfReferencedPoseProvider::BayerChannel(const cv::Mat& raw, const cv::P
 
 cv::Mat SelfReferencedPoseProvider::PassiveImage(const cv::Mat& image, const std::string& bayer,
                                                  int laser_channel) {
-  // Features in a colour the laser does not light: red unless the laser is red.
-  const int passive_rgb = laser_channel == laser::kRed ? laser::kBlue : laser::kRed;
+  // Features in a colour the laser does not light.
+  const int passive_rgb = PassiveColour(laser_channel);
   cv::Mat channel;
   if (image.channels() == 3) {
     cv::extractChannel(image, channel, 2 - passive_rgb);
@@ -159,9 +159,8 @@ SelfReferencedPoseProvider::SelfReferencedPoseProvider(const Camera& camera, int
 }
 
 void SelfReferencedPoseProvider::ChooseTrackedImage(const cv::Mat& frame) {
-  const int passive_rgb = laser_channel_ == laser::kRed ? laser::kBlue : laser::kRed;
   if (tracking_halvings_ > 0 && frame.channels() == 1)
-    bayer_offset_ = BayerSampleOffset(camera_.bayer, passive_rgb);
+    bayer_offset_ = BayerSampleOffset(camera_.bayer, PassiveColour(laser_channel_));
   if (bayer_offset_) tracking_camera_ = TrackingCamera(camera_, tracking_halvings_, bayer_offset_);
 }
 
@@ -201,7 +200,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   const cv::Mat no_mask;
   const cv::Mat& line_mask = frame.detection ? frame.detection->mask : no_mask;
   if (running_ && static_cast<int>(skipped_.size()) + 1 < options_.track_every) {
-    Skipped skipped{frame, line_mask.clone(), frame.profile ? *frame.profile : laser::Profile{}};
+    Skipped skipped{frame, line_mask, frame.profile ? *frame.profile : laser::Profile{}};
     skipped.input.detection = nullptr;
     skipped.input.profile = nullptr;
     skipped_.push_back(std::move(skipped));

@@ -99,6 +99,11 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // The image the odometry tracks: the LED's colour channel of a raw Bayer
   // or colour frame (not the laser's), else the frame itself.
   static cv::Mat PassiveImage(const cv::Mat& image, const std::string& bayer, int laser_channel);
+  // The colour (laser::kRed or kBlue) the passive image takes: red unless
+  // the laser is red.
+  static int PassiveColour(int laser_channel) {
+    return laser_channel == laser::kRed ? laser::kBlue : laser::kRed;
+  }
   // 8-bit high pass of the passive image (local mean removed, Gaussian of
   // `sigma_px`), so that lights moving with the camera do not bias tracking.
   static cv::Mat NormalizeIllumination(const cv::Mat& image, double sigma_px);
@@ -184,11 +189,12 @@ class SelfReferencedPoseProvider : public PoseProvider {
   size_t init_surface_frames_ = 0;
   std::deque<Held> held_;
   // Frames not tracked since the last tracked one (track_every > 1): the
-  // raw image and the line mask kept, prepared only if the sequence ends
+  // raw image and the line mask kept (shared with the caller, which hands
+  // in new ones with every frame), prepared only if the sequence ends
   // before the next tracked frame.
   struct Skipped {
-    FrameInput input;   // image shared with the caller, detection and profile unset
-    cv::Mat line_mask;  // cloned
+    FrameInput input;  // detection and profile unset
+    cv::Mat line_mask;
     laser::Profile profile;
   };
   std::vector<Skipped> skipped_;

@@ -19,22 +19,22 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   options.Check();
   const fs::path scratch =
       fs::temp_directory_path() / ("uwscan_bench_pipeline_" + std::to_string(::getpid()));
-  fs::path dataset = options.dataset;
-  double simulate_seconds = 0.0;
-  if (dataset.empty()) {
-    sim::ScenarioOptions scenario;
-    scenario.frames = options.frames;
-    scenario.width = options.width;
-    scenario.height = options.height;
-    dataset = scratch / "dataset";
-    simulate_seconds = sim::SimulateScenario("tank-target", scenario, dataset).seconds;
-  }
   ReconstructJob job;
-  job.dataset = dataset;
+  job.dataset = options.dataset;
   job.out = scratch / "result";
   job.quiet = true;
   job.self_referenced.odometry.async_bundle_adjustment = options.async_bundle_adjustment;
   job.self_referenced.track_every = options.track_every;
+  job.Check();  // before the (long) simulation
+  double simulate_seconds = 0.0;
+  if (job.dataset.empty()) {
+    sim::ScenarioOptions scenario;
+    scenario.frames = options.frames;
+    scenario.width = options.width;
+    scenario.height = options.height;
+    job.dataset = scratch / "dataset";
+    simulate_seconds = sim::SimulateScenario("tank-target", scenario, job.dataset).seconds;
+  }
   ReconstructReport report;
   try {
     report = RunReconstruct(job);

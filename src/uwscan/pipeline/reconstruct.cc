@@ -39,6 +39,16 @@ void ReconstructJob::Check() const {
   detector.Check();
   UWS_CHECK(max_frames >= 0, "--max-frames must be >= 0");
   UWS_CHECK(!out.empty(), "--out: empty output folder name");
+  if (self_referenced.track_every < 1)
+    throw UsageError("--track-every must be >= 1, got " +
+                     std::to_string(self_referenced.track_every));
+  if (self_referenced.max_tracking_width < 0)
+    throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
+                     std::to_string(self_referenced.max_tracking_width));
+  if (oracle_depths && poses_file)
+    throw UsageError(
+        "--oracle-depths and --poses exclude each other (the oracle feeds the odometry, which "
+        "--poses replaces)");
 }
 
 std::vector<std::string> ReconstructReport::Warnings() const {
@@ -284,7 +294,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   TumWriter trajectory(job.out / "trajectory.tum");
 
   report.pose_source = provider->Name();
-  if (job.oracle_depths && !job.poses_file)
+  if (job.oracle_depths)
     report.pose_source += " (feature depths from the simulator's truth: --oracle-depths)";
   report.scan_lines = line_stage.ScanLines();
   const double frame_interval =

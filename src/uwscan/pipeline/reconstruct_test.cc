@@ -97,6 +97,16 @@ fs::path TempFolder(const std::string& name) {
   return root;
 }
 
+// `scenario` simulated into root/data, and a quiet job on it.
+ReconstructJob SimulatedJob(const fs::path& root, const std::string& scenario,
+                            const sim::ScenarioOptions& options) {
+  sim::SimulateScenario(scenario, options, root / "data");
+  ReconstructJob job;
+  job.dataset = root / "data";
+  job.quiet = true;
+  return job;
+}
+
 // A tank-target scan at 480x360 with a white stripe painted beside the
 // target, simulated into root/data, and a job placing it with the true poses.
 ReconstructJob StripeScanWithTruePoses(const fs::path& root, int frames, uint64_t seed,
@@ -109,11 +119,8 @@ ReconstructJob StripeScanWithTruePoses(const fs::path& root, int frames, uint64_
   options.painted_stripe_m = 0.02;
   options.painted_stripe_colour = "white";
   options.laser_interleave = interleave;
-  sim::SimulateScenario("tank-target", options, root / "data");
-  ReconstructJob job;
-  job.dataset = root / "data";
+  ReconstructJob job = SimulatedJob(root, "tank-target", options);
   job.poses_file = job.dataset / "groundtruth.tum";
-  job.quiet = true;
   return job;
 }
 
@@ -127,11 +134,8 @@ TEST(ReconstructAlbedoEdges, PointsOnTheTargetsSquareEdgesAreDropped) {
   sim::ScenarioOptions options;
   options.frames = 16;
   options.seed = 21;
-  sim::SimulateScenario("tank-target", options, root / "data");
-  ReconstructJob job;
-  job.dataset = root / "data";
+  ReconstructJob job = SimulatedJob(root, "tank-target", options);
   job.poses_file = job.dataset / "groundtruth.tum";
-  job.quiet = true;
   job.out = root / "kept";
   job.drop_albedo_edges = false;
   const ReconstructReport kept = RunReconstruct(job);
@@ -221,12 +225,9 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
   options.frames = 20;
   options.seed = 35;
   options.pods = 2;
-  sim::SimulateScenario("tank-target", options, root / "data");
+  ReconstructJob job = SimulatedJob(root, "tank-target", options);
   ASSERT_TRUE(fs::exists(root / "data" / "cam1" / "frames.csv"));
-  ReconstructJob job;
-  job.dataset = root / "data";
   job.poses_file = job.dataset / "groundtruth.tum";
-  job.quiet = true;
   job.out = root / "both";
   const ReconstructReport report = RunReconstruct(job);
   ASSERT_EQ(report.other_cameras.size(), 1u);
@@ -283,11 +284,8 @@ TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
   options.frames = 40;
   options.seed = 1;
   options.painted_stripe_m = 0.02;
-  sim::SimulateScenario("seabed-transect", options, root / "data");
-  ReconstructJob job;
-  job.dataset = root / "data";
+  ReconstructJob job = SimulatedJob(root, "seabed-transect", options);
   job.poses_file = job.dataset / "groundtruth.tum";
-  job.quiet = true;
   job.out = root / "filtered";
   const ReconstructReport filtered = RunReconstruct(job);
   job.out = root / "kept";
@@ -321,10 +319,7 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   options.height = 360;
   options.frames = 40;
   options.seed = 21;
-  sim::SimulateScenario("tank-target", options, root / "data");
-  ReconstructJob job;
-  job.dataset = root / "data";
-  job.quiet = true;
+  ReconstructJob job = SimulatedJob(root, "tank-target", options);
   std::vector<std::string> trajectories;
   std::vector<std::unique_ptr<char[]>> clutter;  // moves later allocations elsewhere
   for (int run = 0; run < 3; ++run) {

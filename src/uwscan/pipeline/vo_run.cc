@@ -81,7 +81,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   // no demosaicking: the interpolated pixels add no information but cost
   // 4x the tracking).
   using Tracking = fusion::SelfReferencedPoseProvider;
-  const int passive_rgb = detector.laser_channel == laser::kRed ? laser::kBlue : laser::kRed;
+  const int passive_rgb = Tracking::PassiveColour(detector.laser_channel);
   const int halvings = Tracking::TrackingHalvings(rig_camera.width, job.max_tracking_width);
   const std::optional<cv::Point> bayer_offset =
       halvings > 0 ? Tracking::BayerSampleOffset(rig_camera.bayer, passive_rgb) : std::nullopt;
