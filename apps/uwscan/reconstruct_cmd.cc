@@ -20,6 +20,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto no_line_ranges = std::make_shared<bool>(false);
   auto line_ranges = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
+  auto passes = std::make_shared<std::string>("auto");
   auto main_camera_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "reconstruct",
@@ -87,6 +88,12 @@ void RegisterReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--async-ba", job->self_referenced.odometry.async_bundle_adjustment,
                 "windowed BA on a second thread (faster; results then depend on thread timing)");
+  cmd->add_option("--passes", *passes,
+                  "passes of the odometry over the frames: in a second the features take their "
+                  "depths from the surface the first measured over the whole scan (twice the "
+                  "time; for a surface in front of the main one, e.g. a shaft before a hull); "
+                  "auto: a second pass when the first found such a surface")
+      ->capture_default_str();
   cmd->add_flag("--oracle-depths", job->oracle_depths,
                 "diagnostics on simulated datasets: the odometry's features take their depth "
                 "from the simulator's true scene instead of the laser surface (what the "
@@ -107,13 +114,22 @@ void RegisterReconstructCommand(CLI::App& app) {
     if (*no_line_ranges) job->line_ranges = false;
     if (*line_ranges) job->line_ranges = true;
     job->other_cameras = !*main_camera_only;
+    if (*passes == "auto") {
+      job->passes = 0;
+    } else if (*passes == "1" || *passes == "2") {
+      job->passes = std::stoi(*passes);
+    } else {
+      throw UsageError("--passes must be auto, 1 or 2, got '" + *passes + "'");
+    }
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
       std::fprintf(stderr,
                    "reconstruct: %d frames (%d with a laser line, %d without pose), %ld points, "
-                   "poses from %s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
+                   "poses from %s%s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
-                   r.pose_source.c_str(), r.seconds, r.RealTimeFactor(), out->c_str());
+                   r.pose_source.c_str(),
+                   r.passes == 2 ? " in two passes (a surface in front of the main one)" : "",
+                   r.seconds, r.RealTimeFactor(), out->c_str());
       for (const CameraReport& camera : r.other_cameras) {
         std::fprintf(stderr,
                      "reconstruct: camera %s with %s: %d frames (%d with a line), %ld points\n",

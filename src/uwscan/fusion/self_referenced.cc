@@ -235,11 +235,22 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // where an earlier attempt tracked them): the platform moves while they
   // are taken. After a loss the map restarts at the last known pose.
   const Rigid3d origin = last_pose_.value_or(Rigid3d());
+  // A second pass starts where the first did, on the first pass's surface.
+  const bool use_prior = options_.prior_surface && !last_pose_;
+  if (use_prior && !init_surface_) {
+    while (!held_.empty() && held_.front().input.index < options_.prior_first_frame) {
+      held_.pop_front();  // no pose in the first pass either
+      ++dropped_;
+    }
+    if (held_.empty()) return {};
+    init_surface_ = std::make_shared<SurfaceModel>(*options_.prior_surface);
+    init_surface_frames_ = held_.size();  // their profiles are in it already
+  }
   // The surface of the held frames grows with them (one AddProfile per
   // frame, not all held frames again at every attempt); it is built anew
   // only when the oldest held frame was dropped.
   if (!init_surface_) {
-    init_surface_ = std::make_unique<SurfaceModel>(camera_, origin, options_.surface);
+    init_surface_ = std::make_shared<SurfaceModel>(camera_, origin, options_.surface);
     init_surface_frames_ = 0;
   }
   // Frames tracked in an earlier attempt are placed where that put them,
@@ -264,7 +275,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // frames on it, place their profiles with those poses, and start again
   // from that surface; if it is too narrow for the scene's plane after all,
   // wait for more frames.
-  for (int pass = 0; pass < options_.init_refinements && held_.size() > 2; ++pass) {
+  for (int pass = 0; pass < (use_prior ? 0 : options_.init_refinements) && held_.size() > 2;
+       ++pass) {
     for (size_t i = 1; i < held_.size(); ++i) {
       Held& h = held_[i];
       const vo::FrameResult result =
@@ -273,7 +285,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
       h.pose_guess = *result.world_from_camera;
       surface_->AddProfile(*h.pose_guess, h.profile);
     }
-    auto refined = std::make_unique<SurfaceModel>(camera_, origin, options_.surface);
+    auto refined = std::make_shared<SurfaceModel>(camera_, origin, options_.surface);
     for (size_t i = 0; i < held_.size(); ++i)
       refined->AddProfile(PoseGuess(i, origin), held_[i].profile);
     if (options_.surface.extrapolate_plane && !refined->HasDominantPlane()) {

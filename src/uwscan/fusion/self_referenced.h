@@ -83,6 +83,14 @@ struct SelfReferencedOptions {
   // When set, features take their depth from the truth (DepthOracle), not
   // from the laser surface; the surface still decides when the map starts.
   std::shared_ptr<const DepthOracle> depth_oracle;
+  // A second pass over the same frames (`uwscan reconstruct --passes 2`):
+  // the surface the first pass measured over the whole scan, and the frame
+  // its map started at, which is this pass's origin too. The map starts
+  // there at once on that surface, so features get the depth of surfaces the
+  // laser reaches only later in the scan (a shaft in front of a hull) from
+  // the first frame on.
+  std::shared_ptr<const SurfaceModel> prior_surface;
+  int prior_first_frame = -1;
   void Check() const;
 };
 
@@ -94,6 +102,10 @@ class SelfReferencedPoseProvider : public PoseProvider {
   std::vector<PoseUpdate> Finish() override;
   std::string Name() const override { return "self-referenced visual odometry"; }
   nlohmann::json Details() const override;
+  // After Finish: the surface measured over the scan (nullptr if the map
+  // never started), and the frame the map started at.
+  std::shared_ptr<const SurfaceModel> MeasuredSurface() const { return surface_; }
+  int FirstFrameWithPose() const { return init_frame_; }
   std::vector<PoseUpdate> Preliminary() const override { return preliminary_; }
 
   // The image the odometry tracks: the LED's colour channel of a raw Bayer
@@ -183,9 +195,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int laser_channel_;
   SelfReferencedOptions options_;
   std::unique_ptr<vo::Odometry> odometry_;
-  std::unique_ptr<SurfaceModel> surface_;
+  std::shared_ptr<SurfaceModel> surface_;
   // While no pose: the surface of the first init_surface_frames_ held frames.
-  std::unique_ptr<SurfaceModel> init_surface_;
+  std::shared_ptr<SurfaceModel> init_surface_;
   size_t init_surface_frames_ = 0;
   std::deque<Held> held_;
   // Frames not tracked since the last tracked one (track_every > 1): the

@@ -1,7 +1,10 @@
 #include "uwscan/fusion/surface_model.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <unordered_map>
 
 #include "uwscan/util/error.h"
 
@@ -12,6 +15,8 @@ void SurfaceModelOptions::Check() const {
             "surface model: invalid options");
   UWS_CHECK(min_local_width_m >= 0 && min_plane_width_m >= 0 && max_plane_rms_m > 0,
             "surface model: invalid fit thresholds");
+  UWS_CHECK(front_min_fraction > 0 && front_min_fraction <= 1 && front_min_gap_fraction > 0,
+            "surface model: invalid thresholds of the surface in front");
 }
 
 SurfaceModel::SurfaceModel(const Camera& camera, const Rigid3d& world_from_reference,
@@ -46,18 +51,23 @@ void SurfaceModel::AddProfile(const Rigid3d& world_from_camera, const laser::Pro
     else
       profile_centroids_[profiles_++ % kMaxProfileCentroids] = centroid;
   }
+  const long profile_id = profile_count_++;
   for (const auto& p : profile.points) {
     const Eigen::Vector3d world = world_from_camera * p.point_in_camera;
     // Reservoir sampling (xorshift) keeps a uniform bounded sample.
     ++seen_;
     if (static_cast<int>(samples_.size()) < options_.max_plane_samples) {
       samples_.push_back(world);
+      sample_profiles_.push_back(profile_id);
     } else {
       random_state_ ^= random_state_ << 13;
       random_state_ ^= random_state_ >> 7;
       random_state_ ^= random_state_ << 17;
       const long slot = static_cast<long>(random_state_ % static_cast<uint64_t>(seen_));
-      if (slot < options_.max_plane_samples) samples_[slot] = world;
+      if (slot < options_.max_plane_samples) {
+        samples_[slot] = world;
+        sample_profiles_[slot] = profile_id;
+      }
     }
     plane_dirty_ = true;
     const auto cell = CellOf(world);
@@ -191,22 +201,132 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
       weights[i] = r <= 0.005 ? 1.0 : (r <= options_.plane_inlier_m ? 0.005 / r : 0.0);
     }
   }
+  if (plane_) FindFrontSurface();
   return plane_;
+}
+
+void SurfaceModel::FindFrontSurface() const {
+  front_points_.clear();
+  const Eigen::Vector3d centre = world_from_reference_.translation;
+  const auto& [plane_point, plane_normal] = *plane_;
+  // The samples well in front of the dominant plane (along their ray from
+  // the reference view).
+  std::unordered_map<long, std::vector<size_t>> profiles;  // with a point in front
+  for (size_t i = 0; i < samples_.size(); ++i) {
+    const Eigen::Vector3d ray = samples_[i] - centre;
+    const double denominator = plane_normal.dot(ray);
+    if (!(std::abs(denominator) > 1e-9)) continue;
+    const double plane_at = plane_normal.dot(plane_point - centre) / denominator;
+    if (!(plane_at - 1.0 > options_.front_min_gap_fraction)) continue;
+    front_points_.push_back(samples_[i]);
+    profiles[sample_profiles_[i]];
+  }
+  if (static_cast<double>(front_points_.size()) <
+      std::max<double>(options_.min_points, options_.front_min_fraction * samples_.size())) {
+    front_points_.clear();
+    return;
+  }
+  // The laser sheets that measured it: each such profile's samples, on
+  // whichever surface, span its sheet. The surface is continued across
+  // them, the way the sweep moves the line.
+  for (size_t i = 0; i < samples_.size(); ++i) {
+    const auto it = profiles.find(sample_profiles_[i]);
+    if (it != profiles.end()) it->second.push_back(i);
+  }
+  Eigen::Matrix3d sheets = Eigen::Matrix3d::Zero();
+  for (const auto& [profile, members] : profiles) {
+    if (members.size() < 5) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (size_t i : members) mean += samples_[i];
+    mean /= members.size();
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (size_t i : members) scatter += (samples_[i] - mean) * (samples_[i] - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> fit(scatter);
+    // A straight run does not tell its sheet.
+    if (!(fit.eigenvalues()(1) > 0.01 * fit.eigenvalues()(2))) continue;
+    sheets += fit.eigenvectors().col(0) * fit.eigenvectors().col(0).transpose();
+  }
+  if (!(sheets.trace() > 0)) {
+    front_points_.clear();
+    return;
+  }
+  // Across the sheets, and along the dominant surface: what lies in front
+  // of a hull, a floor or a wall (a shaft, a pipe, a chain, a board) mostly
+  // runs along it.
+  const Eigen::Vector3d across =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(sheets).eigenvectors().col(2);
+  extrusion_ = across - plane_normal.dot(across) * plane_normal;
+  if (!(extrusion_.norm() > 0.5)) {  // the sheets lie along the plane
+    front_points_.clear();
+    return;
+  }
+  extrusion_.normalize();
+}
+
+std::optional<double> SurfaceModel::IntersectFront(const Eigen::Vector3d& origin,
+                                                   const Eigen::Vector3d& direction) const {
+  // Along the extrusion the front surface's cross-section stays the same:
+  // the ray, seen along it, passes the measured cross-section where it meets
+  // the surface (the nearest of them: that surface hides what is behind).
+  const Eigen::Vector3d d = direction - extrusion_.dot(direction) * extrusion_;
+  const double d2 = d.squaredNorm();
+  if (!(d2 > 1e-6)) return std::nullopt;
+  std::vector<double> lambdas;
+  for (const Eigen::Vector3d& p : front_points_) {
+    const Eigen::Vector3d w = p - origin;
+    const double along = extrusion_.dot(w);
+    const Eigen::Vector3d w_across = w - along * extrusion_;
+    const double lambda = w_across.dot(d) / d2;
+    if (!(lambda > 0)) continue;
+    // The farther the cross-section is carried, the less exactly it fits.
+    const double carried = std::abs(along - lambda * extrusion_.dot(direction));
+    const double tolerance = kFrontTolerance_m + kFrontToleranceSlope * carried;
+    if ((w_across - lambda * d).squaredNorm() <= tolerance * tolerance) lambdas.push_back(lambda);
+  }
+  if (static_cast<int>(lambdas.size()) < kFrontMinSupport) return std::nullopt;
+  std::sort(lambdas.begin(), lambdas.end());
+  // The nearest cluster of kFrontMinSupport within a few centimetres, and
+  // the median of the points up to kFrontDepthBand_m beyond its start (a
+  // cross-section smeared by the poses would otherwise be taken at its near
+  // edge).
+  for (size_t i = 0; i + kFrontMinSupport <= lambdas.size(); ++i) {
+    if (lambdas[i + kFrontMinSupport - 1] - lambdas[i] > options_.plane_inlier_m) continue;
+    size_t end = i;
+    while (end < lambdas.size() && lambdas[end] - lambdas[i] <= kFrontDepthBand_m) ++end;
+    return lambdas[i + (end - i) / 2];
+  }
+  return std::nullopt;
 }
 
 std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& origin,
                                                          const Eigen::Vector3d& direction) const {
   if (points_ < options_.min_points) return std::nullopt;
   const auto local = IntersectSwept(origin, direction);
-  if (local) return Hit{*local, options_.local_sigma_m, false};
-  if (!options_.extrapolate_plane) return std::nullopt;
-  const auto& plane = DominantPlane();
+  if (!options_.extrapolate_plane) {
+    if (!local) return std::nullopt;
+    return Hit{*local, options_.local_sigma_m, false};
+  }
+  const auto& plane = DominantPlane();  // refreshes the surface in front too
+  // A surface in front hides what lies behind it where the ray meets it:
+  // the dominant plane, and also points measured behind a part of it the
+  // laser has not swept (the hull behind a shaft, seen from elsewhere).
+  double front = std::numeric_limits<double>::infinity();
+  if (!front_points_.empty()) front = IntersectFront(origin, direction).value_or(front);
+  if (local) {
+    const double measured = (*local - origin).norm();
+    if (front < measured * (1.0 - options_.front_min_gap_fraction))
+      return Hit{origin + front * direction, options_.extrapolated_sigma_m, true};
+    return Hit{*local, options_.local_sigma_m, false};
+  }
   if (!plane) return std::nullopt;
+  double nearest = front;
   const double denominator = plane->second.dot(direction);
-  if (!(std::abs(denominator) > 1e-3)) return std::nullopt;
-  const double lambda = plane->second.dot(plane->first - origin) / denominator;
-  if (!(lambda > 0)) return std::nullopt;
-  return Hit{origin + lambda * direction, options_.extrapolated_sigma_m, true};
+  if (std::abs(denominator) > 1e-3) {
+    const double lambda = plane->second.dot(plane->first - origin) / denominator;
+    if (lambda > 0 && lambda < nearest) nearest = lambda;
+  }
+  if (!std::isfinite(nearest)) return std::nullopt;
+  return Hit{origin + nearest * direction, options_.extrapolated_sigma_m, true};
 }
 
 std::optional<Eigen::Vector3d> SurfaceModel::IntersectSwept(

@@ -7,7 +7,9 @@
 //
 // Profile points are binned by their pixel in a reference view (bounded per
 // cell, so memory stays flat); a ray is intersected with a plane fitted to
-// the laser points around the place it hits.
+// the laser points around the place it hits. Where the laser has not swept,
+// a ray takes the dominant plane of all points, or a surface measured in
+// front of it, continued (a shaft before a hull).
 #pragma once
 
 #include <optional>
@@ -38,6 +40,17 @@ struct SurfaceModelOptions {
   double plane_inlier_m = 0.03;  // RANSAC inlier band of the dominant plane
   double local_sigma_m = 0.002;
   int max_plane_samples = 4000;
+  // A surface in front of the dominant plane (a shaft before a hull, a pipe
+  // or a chain on a floor), from at least this fraction of the samples,
+  // standing at least front_min_gap_fraction of the plane's range in front
+  // of it (a curved hull's bulge stays within that). Its measured
+  // cross-section is continued across the laser sheets that measured it,
+  // along the dominant plane (such things mostly run along what is behind
+  // them: a shaft along its hull); a ray takes it where it meets it before
+  // the plane or before points measured behind it (the hull behind a part
+  // of the shaft the laser has not swept, seen from elsewhere).
+  double front_min_fraction = 0.02;
+  double front_min_gap_fraction = 0.1;
   void Check() const;
 };
 
@@ -60,6 +73,9 @@ class SurfaceModel {
   long size() const { return points_; }
   // Whether the laser points span enough to define the dominant plane.
   bool HasDominantPlane() const { return DominantPlane().has_value(); }
+  // Whether a surface stands in front of the dominant plane
+  // (SurfaceModelOptions::front_min_fraction).
+  bool HasFrontSurface() const { return DominantPlane() && !front_points_.empty(); }
 
  private:
   std::optional<Eigen::Vector2i> CellOf(const Eigen::Vector3d& point_world) const;
@@ -81,6 +97,7 @@ class SurfaceModel {
   // Reservoir sample of all points for the dominant plane (robust fit,
   // refreshed lazily).
   std::vector<Eigen::Vector3d> samples_;
+  std::vector<long> sample_profiles_;  // the profile each sample came from
   // Centroids of the profiles (the newest kMaxProfileCentroids).
   static constexpr int kMaxProfileCentroids = 512;
   static constexpr int kRansacIterations = 100;
@@ -91,6 +108,23 @@ class SurfaceModel {
   mutable bool plane_dirty_ = true;
   mutable std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> plane_;  // point, normal
   const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& DominantPlane() const;
+  // The samples in front of the dominant plane and the direction their
+  // cross-section is continued along (refreshed with plane_); empty if too
+  // few or not swept far enough.
+  mutable std::vector<Eigen::Vector3d> front_points_;
+  mutable Eigen::Vector3d extrusion_ = Eigen::Vector3d::UnitX();
+  void FindFrontSurface() const;
+  std::optional<double> IntersectFront(const Eigen::Vector3d& origin,
+                                       const Eigen::Vector3d& direction) const;
+  // How near the ray must pass a cross-section point: 1 cm, plus 2 % of
+  // how far the cross-section is carried along the extrusion. The surface
+  // is where kFrontMinSupport such points first come within
+  // plane_inlier_m along the ray: the median of those within
+  // kFrontDepthBand_m from there.
+  static constexpr double kFrontTolerance_m = 0.01, kFrontToleranceSlope = 0.02;
+  static constexpr int kFrontMinSupport = 3;
+  static constexpr double kFrontDepthBand_m = 0.1;
+  long profile_count_ = 0;
   // Running mean depth of the points along the reference view, for the
   // first guess of where a ray lands.
   double depth_sum_ = 0.0;

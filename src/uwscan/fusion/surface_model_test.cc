@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "uwscan/sim/scenario.h"
 
@@ -113,6 +115,87 @@ TEST(SurfaceModel, DominantPlaneIgnoresAShaftInFront) {
     EXPECT_TRUE(hit->extrapolated);
     EXPECT_NEAR(hit->point.z(), 2.0, 0.01) << hit->point.transpose();
   }
+}
+
+// The simulator's hull: the servo sweeps the line over the hull and the
+// shaft in front of it while the platform moves along. Swept with the true
+// poses over the whole scan (what a first pass measures), rays from the
+// first view to the shaft must take the shaft's depth, not the hull's 0.7 m
+// behind it: where the line never reached the shaft from there (continued
+// from its measured cross-section), and where hull points measured from
+// elsewhere lie behind it in the same cells of the first view.
+TEST(SurfaceModel, ShaftInFrontOfTheHullKeepsItsOwnDepth) {
+  sim::ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.frames = 200;
+  sim::Scenario scenario = sim::MakeScenario("hull", options);
+  scenario.config.scene.Prepare();
+  const sim::Renderer renderer(scenario.config);
+  const sim::Trajectory trajectory(scenario.motion);
+  const Camera& camera = renderer.camera();
+  const Rigid3d world_from_first = trajectory.WorldFromCamera(0.0);
+  int shaft = -1;
+  for (size_t i = 0; i < scenario.config.scene.surfaces.size(); ++i) {
+    if (scenario.config.scene.surfaces[i].name == "shaft") shaft = static_cast<int>(i);
+  }
+  ASSERT_GE(shaft, 0);
+  const auto sweep = [&](const SurfaceModelOptions& surface_options) {
+    SurfaceModel surface(camera, world_from_first, surface_options);
+    for (int frame = 0; frame < scenario.frames; frame += 2) {
+      const sim::FrameState state = scenario.FrameAt(trajectory, frame);
+      laser::Profile profile;
+      for (const auto& p : renderer.LaserGroundTruth(state)) {
+        profile.points.push_back({p.point_in_camera, p.pixel, 1.0f});
+      }
+      surface.AddProfile(state.world_from_camera, profile);
+    }
+    return surface;
+  };
+  // Median absolute range error on the shaft's and on the hull's rays.
+  const auto errors = [&](const SurfaceModel& surface) {
+    std::vector<double> on_shaft, on_hull;
+    for (int v = 4; v < camera.height; v += 8) {
+      for (int u = 4; u < camera.width; u += 8) {
+        const auto ray = camera.BackProject(Eigen::Vector2d(u, v));
+        if (!ray) continue;
+        const Eigen::Vector3d origin = world_from_first * ray->origin;
+        const Eigen::Vector3d direction = world_from_first.rotation * ray->direction;
+        const auto truth = scenario.config.scene.Intersect(origin, direction);
+        const auto hit = surface.Intersect(origin, direction);
+        if (!truth || !hit) continue;
+        const double error = std::abs((hit->point - origin).norm() - truth->lambda);
+        (truth->surface == shaft ? on_shaft : on_hull).push_back(error);
+      }
+    }
+    std::sort(on_shaft.begin(), on_shaft.end());
+    std::sort(on_hull.begin(), on_hull.end());
+    return std::pair{on_shaft, on_hull};
+  };
+  const auto quantile = [](const std::vector<double>& v, double q) {
+    return v.empty() ? 1e9 : v[static_cast<size_t>(q * (v.size() - 1))];
+  };
+  const SurfaceModel surface = sweep({});
+  ASSERT_TRUE(surface.HasFrontSurface());
+  const auto [on_shaft, on_hull] = errors(surface);
+  ASSERT_GT(on_shaft.size(), 150u);
+  ASSERT_GT(on_hull.size(), 500u);
+  EXPECT_LT(quantile(on_shaft, 0.5), 0.02);
+  EXPECT_LT(quantile(on_shaft, 0.8), 0.05);
+  EXPECT_LT(quantile(on_hull, 0.5), 0.02);
+  EXPECT_LT(quantile(on_hull, 0.9), 0.05);
+  std::printf("range error, median / 80 %% / 90 %%: shaft %.3f / %.3f / %.3f m (%zu rays), hull "
+              "%.3f / %.3f / %.3f m (%zu)\n",
+              quantile(on_shaft, 0.5), quantile(on_shaft, 0.8), quantile(on_shaft, 0.9),
+              on_shaft.size(), quantile(on_hull, 0.5), quantile(on_hull, 0.8),
+              quantile(on_hull, 0.9), on_hull.size());
+  // Without a surface in front (a threshold no sample reaches), the shaft
+  // takes the hull's depth.
+  SurfaceModelOptions no_front;
+  no_front.front_min_fraction = 1.0;
+  const SurfaceModel without = sweep(no_front);
+  EXPECT_FALSE(without.HasFrontSurface());
+  EXPECT_GT(quantile(errors(without).first, 0.5), 0.3);
 }
 
 }  // namespace

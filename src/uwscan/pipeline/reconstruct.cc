@@ -45,6 +45,10 @@ void ReconstructJob::Check() const {
   if (self_referenced.max_tracking_width < 0)
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
+  if (passes < 0 || passes > 2)
+    throw UsageError("--passes must be auto, 1 or 2, got " + std::to_string(passes));
+  if (passes == 2 && poses_file)
+    throw UsageError("--passes 2 and --poses exclude each other (the passes are the odometry's)");
   if (oracle_depths && poses_file)
     throw UsageError(
         "--oracle-depths and --poses exclude each other (the oracle feeds the odometry, which "
@@ -161,7 +165,9 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"laser_detection", seconds_detect},
             {"triangulation", seconds_triangulate},
             {"pose_estimation", seconds_pose},
-            {"io", seconds_io}}},
+            {"io", seconds_io},
+            {"first_pass", seconds_first_pass}}},
+          {"passes", passes},
           {"sequence_duration_s", sequence_duration_s},
           {"real_time_factor", RealTimeFactor()}};
 }
@@ -250,9 +256,20 @@ std::shared_ptr<const fusion::DepthOracle> LoadDepthOracle(const fs::path& datas
 
 }  // namespace
 
-ReconstructReport RunReconstruct(const ReconstructJob& job,
-                                 std::unique_ptr<fusion::PoseProvider> provider) {
-  job.Check();
+namespace {
+
+// What the self-referenced odometry of one pass measured, for the next.
+struct MeasuredScene {
+  std::shared_ptr<const fusion::SurfaceModel> surface;
+  int first_frame = -1;
+  double seconds = 0.0;  // the pass's
+};
+
+// One pass over the frames: writes the outputs and returns the report;
+// `prior` (a second pass) starts the self-referenced odometry on an
+// earlier pass's surface, `measured` receives this pass's.
+ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::PoseProvider> provider,
+                          const MeasuredScene* prior, MeasuredScene* measured) {
   const auto start = std::chrono::steady_clock::now();
   const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
   const Camera& camera = rig.CameraByName(job.camera_name);
@@ -277,13 +294,20 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     provider = std::make_unique<fusion::TrajectoryPoseProvider>(ReadTum(*job.poses_file),
                                                                 job.poses_file->string());
   }
+  const fusion::SelfReferencedPoseProvider* self_referenced = nullptr;
   if (!provider) {
     fusion::SelfReferencedOptions options = job.self_referenced;
     options.use_line_ranges = job.line_ranges.value_or(!LaserSweeps(frames));
     if (job.oracle_depths) options.depth_oracle = LoadDepthOracle(job.dataset);
+    if (prior) {
+      options.prior_surface = prior->surface;
+      options.prior_first_frame = prior->first_frame;
+    }
     report.line_ranges = options.use_line_ranges;
-    provider = std::make_unique<fusion::SelfReferencedPoseProvider>(
+    auto odometry = std::make_unique<fusion::SelfReferencedPoseProvider>(
         camera, line_stage.detector().laser_channel, options);
+    self_referenced = odometry.get();
+    provider = std::move(odometry);
   }
 
   std::error_code error;
@@ -306,7 +330,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                         : 0.0;
   long total_frames = static_cast<long>(frames.size());
   for (const auto& other : others) total_frames += static_cast<long>(other.frames.size());
-  ProgressBar progress("reconstruct", total_frames, !job.quiet);
+  ProgressBar progress(prior ? "reconstruct, second pass" : "reconstruct", total_frames,
+                       !job.quiet);
   long frames_done = 0;
   std::optional<Rigid3d> first_pose;
   std::vector<StampedPose> placed_poses;  // the main camera's, in time order
@@ -374,6 +399,10 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     progress.Update(++frames_done);
   }
   place(provider->Finish());
+  if (self_referenced && measured) {
+    measured->surface = self_referenced->MeasuredSurface();
+    measured->first_frame = self_referenced->FirstFrameWithPose();
+  }
   report.frames_without_pose = report.frames - frames_placed;
   if (!first_pose) {
     progress.Finish();
@@ -429,12 +458,31 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   cloud.Close();
   uncompensated.Close();
   trajectory.Commit();
-  report.seconds = Seconds(start);
+  report.passes = prior ? 2 : 1;
+  report.seconds_first_pass = prior ? prior->seconds : 0.0;
+  report.seconds = Seconds(start) + report.seconds_first_pass;
+  if (measured) measured->seconds = report.seconds;
   nlohmann::json json = report.ToJson();
   json["dataset"] = fs::absolute(job.dataset).string();
   json["motion_compensation"] = job.motion_compensation;
   WriteFileAtomic(job.out / "report.json", json.dump(2) + "\n");
   return report;
+}
+
+}  // namespace
+
+ReconstructReport RunReconstruct(const ReconstructJob& job,
+                                 std::unique_ptr<fusion::PoseProvider> provider) {
+  job.Check();
+  if (provider || job.poses_file || job.passes == 1)
+    return RunPass(job, std::move(provider), nullptr, nullptr);
+  MeasuredScene measured;
+  const ReconstructReport first = RunPass(job, nullptr, nullptr, &measured);
+  // Auto: a second pass only where the first found a surface in front of
+  // the scene's main one, whose depths the features had to guess until the
+  // laser reached it.
+  if (!measured.surface || (job.passes == 0 && !measured.surface->HasFrontSurface())) return first;
+  return RunPass(job, nullptr, &measured, nullptr);
 }
 
 }  // namespace uwscan

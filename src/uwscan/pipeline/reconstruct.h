@@ -58,6 +58,16 @@ struct ReconstructJob {
   // depth from the simulator's true scene (scene.yaml, groundtruth.tum)
   // instead of the laser surface (fusion::DepthOracle).
   bool oracle_depths = false;
+  // Passes of the self-referenced odometry over the frames. In a second
+  // pass the features take their depths from the surface the first
+  // measured over the whole scan, from the first frame on
+  // (SelfReferencedOptions::prior_surface), not from what the laser has
+  // swept so far: for a scene with a surface in front of its main one (a
+  // shaft before a hull), whose depth the first pass had to guess until the
+  // laser reached it. 0 (auto): a second pass only when the first found such
+  // a surface (SurfaceModel::HasFrontSurface); 1, 2: so many. A second pass
+  // doubles the time; its outputs replace the first's.
+  int passes = 0;
   void Check() const;
 };
 
@@ -90,6 +100,8 @@ struct ReconstructReport {
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
+  int passes = 1;                   // the self-referenced odometry's (ReconstructJob::passes)
+  double seconds_first_pass = 0.0;  // of a second pass's first (included in `seconds`)
   double sequence_duration_s = 0.0;  // from the frame timestamps
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider

@@ -312,6 +312,53 @@ TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
 // their anchor image, and runs of a coastal transect differed when the
 // image-reading thread's allocations moved it; that case needs the
 // thread's timing to show, see BENCHMARKS.md "Reproducibility").
+// A hull with a propeller shaft in front of it (§6.5), scanned while the
+// platform moves along: the laser reaches the shaft late in the scan, so a
+// single pass gives the shaft's features the hull's depth, 0.7 m too far,
+// until then. The first pass finds the surface in front, so by default a
+// second runs, with the whole scan's surface from its first frame; the
+// shaft's cylinder then fits better than with the INS-like trajectory, as
+// the issue asks (coastal water, 640x480; seed 71 was not used to develop
+// the second pass).
+TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsASecondPass) {
+  const fs::path root = TempFolder("passes");
+  sim::ScenarioOptions options;
+  options.width = 640;
+  options.height = 480;
+  options.frames = 120;
+  options.seed = 71;
+  ReconstructJob job = SimulatedJob(root, "hull", options);
+  const auto shaft_residual = [&job](const ReconstructReport& report) {
+    const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+    const SurfaceAccuracy* shaft = evaluation.compensated.Surface("shaft");
+    EXPECT_NE(shaft, nullptr);
+    EXPECT_GT(report.points, 10000);
+    return shaft ? shaft->robust_fit_rms_m : 1e9;
+  };
+  job.out = root / "auto";
+  const ReconstructReport automatic = RunReconstruct(job);
+  EXPECT_EQ(automatic.passes, 2);
+  EXPECT_GT(automatic.seconds_first_pass, 0.0);
+  EXPECT_GT(automatic.seconds, automatic.seconds_first_pass);
+  const double two_passes = shaft_residual(automatic);
+
+  job.out = root / "one";
+  job.passes = 1;
+  const ReconstructReport one = RunReconstruct(job);
+  EXPECT_EQ(one.passes, 1);
+  const double one_pass = shaft_residual(one);
+
+  job.out = root / "ins";
+  job.poses_file = job.dataset / "ins.tum";
+  job.passes = 0;
+  const double ins = shaft_residual(RunReconstruct(job));
+  std::printf("shaft cylinder residual: two passes %.2f mm, one pass %.2f mm, INS %.2f mm\n",
+              two_passes * 1e3, one_pass * 1e3, ins * 1e3);
+  EXPECT_LT(two_passes, 0.5 * ins);
+  EXPECT_LT(two_passes, 0.5 * one_pass);
+  fs::remove_all(root);
+}
+
 TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   const fs::path root = TempFolder("reproducible");
   sim::ScenarioOptions options;
