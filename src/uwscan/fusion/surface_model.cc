@@ -209,22 +209,40 @@ void SurfaceModel::FindFrontSurface() const {
   front_points_.clear();
   const Eigen::Vector3d centre = world_from_reference_.translation;
   const auto& [plane_point, plane_normal] = *plane_;
-  // The samples well in front of the dominant plane (along their ray from
-  // the reference view).
+  // The samples well in front of the dominant plane: on the reference
+  // camera's side, above an empty gap of a fraction of the camera's distance
+  // to it (a shaft before a hull, not a curved hull's bulge or a sea floor's
+  // relief, which rise from the plane without one; a few mixed pixels at a
+  // silhouette may lie in it).
+  const double camera_side = plane_normal.dot(centre - plane_point);
+  const double gap = options_.front_min_gap_fraction * std::abs(camera_side);
+  const auto height = [&](const Eigen::Vector3d& p) {
+    return std::copysign(1.0, camera_side) * plane_normal.dot(p - plane_point);
+  };
+  std::vector<double> heights;
+  for (const auto& p : samples_) {
+    if (height(p) > options_.plane_inlier_m) heights.push_back(height(p));
+  }
+  std::sort(heights.begin(), heights.end());
+  const size_t needed = static_cast<size_t>(
+      std::max<double>(options_.min_points, options_.front_min_fraction * samples_.size()));
+  const size_t stray = std::max<size_t>(3, samples_.size() / 500);
+  std::optional<double> above;
+  for (size_t j = 0; j < heights.size() && heights.size() - j > needed; ++j) {
+    const double start = j == 0 ? options_.plane_inlier_m : heights[j - 1];
+    const auto end = std::upper_bound(heights.begin(), heights.end(), start + gap);
+    if (static_cast<size_t>(end - heights.begin()) - j <= stray &&
+        static_cast<size_t>(heights.end() - end) >= needed) {
+      above = start + gap;
+      break;
+    }
+  }
+  if (!above) return;
   std::unordered_map<long, std::vector<size_t>> profiles;  // with a point in front
   for (size_t i = 0; i < samples_.size(); ++i) {
-    const Eigen::Vector3d ray = samples_[i] - centre;
-    const double denominator = plane_normal.dot(ray);
-    if (!(std::abs(denominator) > 1e-9)) continue;
-    const double plane_at = plane_normal.dot(plane_point - centre) / denominator;
-    if (!(plane_at - 1.0 > options_.front_min_gap_fraction)) continue;
+    if (!(height(samples_[i]) > *above)) continue;
     front_points_.push_back(samples_[i]);
     profiles[sample_profiles_[i]];
-  }
-  if (static_cast<double>(front_points_.size()) <
-      std::max<double>(options_.min_points, options_.front_min_fraction * samples_.size())) {
-    front_points_.clear();
-    return;
   }
   // The laser sheets that measured it: each such profile's samples, on
   // whichever surface, span its sheet. The surface is continued across

@@ -42,8 +42,9 @@ struct SurfaceModelOptions {
   int max_plane_samples = 4000;
   // A surface in front of the dominant plane (a shaft before a hull, a pipe
   // or a chain on a floor), from at least this fraction of the samples,
-  // standing at least front_min_gap_fraction of the plane's range in front
-  // of it (a curved hull's bulge stays within that). Its measured
+  // standing out of the plane towards the camera by at least
+  // front_min_gap_fraction of the reference view's distance to it (a curved
+  // hull's bulge and a sea floor's relief stay within that). Its measured
   // cross-section is continued across the laser sheets that measured it,
   // along the dominant plane (such things mostly run along what is behind
   // them: a shaft along its hull); a ray takes it where it meets it before
