@@ -26,6 +26,8 @@ void SelfReferencedOptions::Check() const {
   UWS_CHECK(init_refinements >= 0, context, "init refinements must be >= 0, got ",
             init_refinements);
   UWS_CHECK(track_every >= 1, context, "track every N frames needs N >= 1, got ", track_every);
+  UWS_CHECK(!prior_surface || prior_first_frame >= 0, context,
+            "a first pass's surface needs the frame its map started at");
 }
 
 std::optional<cv::Point> SelfReferencedPoseProvider::BayerSampleOffset(const std::string& bayer,
