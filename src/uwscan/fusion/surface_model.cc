@@ -216,12 +216,10 @@ void SurfaceModel::FindFrontSurface() const {
   // silhouette may lie in it).
   const double camera_side = plane_normal.dot(centre - plane_point);
   const double gap = options_.front_min_gap_fraction * std::abs(camera_side);
-  const auto height = [&](const Eigen::Vector3d& p) {
-    return std::copysign(1.0, camera_side) * plane_normal.dot(p - plane_point);
-  };
-  std::vector<double> heights;
-  for (const auto& p : samples_) {
-    if (height(p) > options_.plane_inlier_m) heights.push_back(height(p));
+  std::vector<double> height(samples_.size()), heights;  // towards the camera; those off the plane
+  for (size_t i = 0; i < samples_.size(); ++i) {
+    height[i] = std::copysign(1.0, camera_side) * plane_normal.dot(samples_[i] - plane_point);
+    if (height[i] > options_.plane_inlier_m) heights.push_back(height[i]);
   }
   std::sort(heights.begin(), heights.end());
   const size_t needed = static_cast<size_t>(
@@ -240,7 +238,7 @@ void SurfaceModel::FindFrontSurface() const {
   if (!above) return;
   std::unordered_map<long, std::vector<size_t>> profiles;  // with a point in front
   for (size_t i = 0; i < samples_.size(); ++i) {
-    if (!(height(samples_[i]) > *above)) continue;
+    if (!(height[i] > *above)) continue;
     front_points_.push_back(samples_[i]);
     profiles[sample_profiles_[i]];
   }

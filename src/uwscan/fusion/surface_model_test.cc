@@ -5,36 +5,60 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "uwscan/sim/scenario.h"
 
 namespace uwscan::fusion {
 namespace {
 
+// A simulator scenario at 320x240 and surface models swept by its true
+// laser profiles (the simulator's laser points, true poses), with the first
+// frame as their reference view.
+struct SimulatedSweep {
+  SimulatedSweep(const std::string& name, int frames)
+      : scenario(Prepared(name, frames)),
+        renderer(scenario.config),
+        trajectory(scenario.motion),
+        world_from_first(trajectory.WorldFromCamera(0.0)) {}
+  static sim::Scenario Prepared(const std::string& name, int frames) {
+    sim::ScenarioOptions options;
+    options.width = 320;
+    options.height = 240;
+    options.frames = frames;
+    sim::Scenario scenario = sim::MakeScenario(name, options);
+    scenario.config.scene.Prepare();
+    return scenario;
+  }
+  const Camera& camera() const { return renderer.camera(); }
+  // Every `step`th frame's profile.
+  SurfaceModel Sweep(const SurfaceModelOptions& options, int step = 1) const {
+    SurfaceModel surface(camera(), world_from_first, options);
+    for (int frame = 0; frame < scenario.frames; frame += step) {
+      const sim::FrameState state = scenario.FrameAt(trajectory, frame);
+      laser::Profile profile;
+      for (const auto& p : renderer.LaserGroundTruth(state)) {
+        profile.points.push_back({p.point_in_camera, p.pixel, 1.0f});
+      }
+      surface.AddProfile(state.world_from_camera, profile);
+    }
+    return surface;
+  }
+  sim::Scenario scenario;
+  sim::Renderer renderer;
+  sim::Trajectory trajectory;
+  Rigid3d world_from_first;
+};
+
 // Profiles of a laser sweeping a tank floor (from the simulator's true laser
 // points) give rays through the swept region their true depth.
 TEST(SurfaceModel, RaysMeetTheSweptSurface) {
-  sim::ScenarioOptions options;
-  options.width = 320;
-  options.height = 240;
-  options.frames = 12;
-  sim::Scenario scenario = sim::MakeScenario("tank-target", options);
-  scenario.config.scene.Prepare();
-  const sim::Renderer renderer(scenario.config);
-  const sim::Trajectory trajectory(scenario.motion);
-  const Camera& camera = renderer.camera();
-  const Rigid3d world_from_first = trajectory.WorldFromCamera(0.0);
+  const SimulatedSweep tank("tank-target", 12);
+  const Camera& camera = tank.camera();
+  const Rigid3d& world_from_first = tank.world_from_first;
   SurfaceModelOptions options_local;
   options_local.extrapolate_plane = false;
-  SurfaceModel surface(camera, world_from_first, options_local);
-  for (int frame = 0; frame < scenario.frames; ++frame) {
-    const sim::FrameState state = scenario.FrameAt(trajectory, frame);
-    laser::Profile profile;
-    for (const auto& p : renderer.LaserGroundTruth(state)) {
-      profile.points.push_back({p.point_in_camera, p.pixel, 1.0f});
-    }
-    surface.AddProfile(state.world_from_camera, profile);
-  }
+  const SurfaceModel surface = tank.Sweep(options_local);
   ASSERT_GT(surface.size(), 500);
   int hits = 0, misses = 0;
   double worst = 0.0;
@@ -44,7 +68,7 @@ TEST(SurfaceModel, RaysMeetTheSweptSurface) {
       ASSERT_TRUE(ray.has_value());
       const Eigen::Vector3d origin = world_from_first * ray->origin;
       const Eigen::Vector3d direction = world_from_first.rotation * ray->direction;
-      const auto truth = scenario.config.scene.Intersect(origin, direction);
+      const auto truth = tank.scenario.config.scene.Intersect(origin, direction);
       const auto hit = surface.Intersect(origin, direction);
       if (!hit) {
         ++misses;
@@ -125,33 +149,15 @@ TEST(SurfaceModel, DominantPlaneIgnoresAShaftInFront) {
 // from its measured cross-section), and where hull points measured from
 // elsewhere lie behind it in the same cells of the first view.
 TEST(SurfaceModel, ShaftInFrontOfTheHullKeepsItsOwnDepth) {
-  sim::ScenarioOptions options;
-  options.width = 320;
-  options.height = 240;
-  options.frames = 200;
-  sim::Scenario scenario = sim::MakeScenario("hull", options);
-  scenario.config.scene.Prepare();
-  const sim::Renderer renderer(scenario.config);
-  const sim::Trajectory trajectory(scenario.motion);
-  const Camera& camera = renderer.camera();
-  const Rigid3d world_from_first = trajectory.WorldFromCamera(0.0);
+  const SimulatedSweep hull("hull", 200);
+  const Camera& camera = hull.camera();
+  const Rigid3d& world_from_first = hull.world_from_first;
+  const sim::Scene& scene = hull.scenario.config.scene;
   int shaft = -1;
-  for (size_t i = 0; i < scenario.config.scene.surfaces.size(); ++i) {
-    if (scenario.config.scene.surfaces[i].name == "shaft") shaft = static_cast<int>(i);
+  for (size_t i = 0; i < scene.surfaces.size(); ++i) {
+    if (scene.surfaces[i].name == "shaft") shaft = static_cast<int>(i);
   }
   ASSERT_GE(shaft, 0);
-  const auto sweep = [&](const SurfaceModelOptions& surface_options) {
-    SurfaceModel surface(camera, world_from_first, surface_options);
-    for (int frame = 0; frame < scenario.frames; frame += 2) {
-      const sim::FrameState state = scenario.FrameAt(trajectory, frame);
-      laser::Profile profile;
-      for (const auto& p : renderer.LaserGroundTruth(state)) {
-        profile.points.push_back({p.point_in_camera, p.pixel, 1.0f});
-      }
-      surface.AddProfile(state.world_from_camera, profile);
-    }
-    return surface;
-  };
   // Median absolute range error on the shaft's and on the hull's rays.
   const auto errors = [&](const SurfaceModel& surface) {
     std::vector<double> on_shaft, on_hull;
@@ -161,7 +167,7 @@ TEST(SurfaceModel, ShaftInFrontOfTheHullKeepsItsOwnDepth) {
         if (!ray) continue;
         const Eigen::Vector3d origin = world_from_first * ray->origin;
         const Eigen::Vector3d direction = world_from_first.rotation * ray->direction;
-        const auto truth = scenario.config.scene.Intersect(origin, direction);
+        const auto truth = scene.Intersect(origin, direction);
         const auto hit = surface.Intersect(origin, direction);
         if (!truth || !hit) continue;
         const double error = std::abs((hit->point - origin).norm() - truth->lambda);
@@ -175,7 +181,7 @@ TEST(SurfaceModel, ShaftInFrontOfTheHullKeepsItsOwnDepth) {
   const auto quantile = [](const std::vector<double>& v, double q) {
     return v.empty() ? 1e9 : v[static_cast<size_t>(q * (v.size() - 1))];
   };
-  const SurfaceModel surface = sweep({});
+  const SurfaceModel surface = hull.Sweep({}, 2);
   ASSERT_TRUE(surface.HasFrontSurface());
   const auto [on_shaft, on_hull] = errors(surface);
   ASSERT_GT(on_shaft.size(), 150u);
@@ -193,7 +199,7 @@ TEST(SurfaceModel, ShaftInFrontOfTheHullKeepsItsOwnDepth) {
   // takes the hull's depth.
   SurfaceModelOptions no_front;
   no_front.front_min_fraction = 1.0;
-  const SurfaceModel without = sweep(no_front);
+  const SurfaceModel without = hull.Sweep(no_front, 2);
   EXPECT_FALSE(without.HasFrontSurface());
   EXPECT_GT(quantile(errors(without).first, 0.5), 0.3);
 }

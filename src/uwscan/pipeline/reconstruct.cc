@@ -254,10 +254,6 @@ std::shared_ptr<const fusion::DepthOracle> LoadDepthOracle(const fs::path& datas
   return oracle;
 }
 
-}  // namespace
-
-namespace {
-
 // What the self-referenced odometry of one pass measured, for the next.
 struct MeasuredScene {
   std::shared_ptr<const fusion::SurfaceModel> surface;
