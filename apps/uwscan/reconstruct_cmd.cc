@@ -89,10 +89,11 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--async-ba", job->self_referenced.odometry.async_bundle_adjustment,
                 "windowed BA on a second thread (faster; results then depend on thread timing)");
   cmd->add_option("--passes", *passes,
-                  "passes of the odometry over the frames: in a second the features take their "
-                  "depths from the surface the first measured over the whole scan (twice the "
-                  "time; for a surface in front of the main one, e.g. a shaft before a hull); "
-                  "auto: a second pass when the first found such a surface")
+                  "passes of the odometry over the frames (1-3): in a later one the features take "
+                  "their depths from the surface the pass before measured over the whole scan "
+                  "(each pass the time of the first; for a surface in front of the main one, "
+                  "e.g. a shaft before a hull); auto: three passes when the first found such a "
+                  "surface, else one")
       ->capture_default_str();
   cmd->add_flag("--oracle-depths", job->oracle_depths,
                 "diagnostics on simulated datasets: the odometry's features take their depth "
@@ -116,10 +117,10 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->other_cameras = !*main_camera_only;
     if (*passes == "auto") {
       job->passes = 0;
-    } else if (*passes == "1" || *passes == "2") {
+    } else if (*passes == "1" || *passes == "2" || *passes == "3") {
       job->passes = std::stoi(*passes);
     } else {
-      throw UsageError("--passes must be auto, 1 or 2, got '" + *passes + "'");
+      throw UsageError("--passes must be auto, 1, 2 or 3, got '" + *passes + "'");
     }
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
@@ -128,7 +129,9 @@ void RegisterReconstructCommand(CLI::App& app) {
                    "poses from %s%s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
                    r.pose_source.c_str(),
-                   r.passes == 2 ? " in two passes (a surface in front of the main one)" : "",
+                   r.passes == 1   ? ""
+                   : r.passes == 2 ? " in two passes (a surface in front of the main one)"
+                                   : " in three passes (a surface in front of the main one)",
                    r.seconds, r.RealTimeFactor(), out->c_str());
       for (const CameraReport& camera : r.other_cameras) {
         std::fprintf(stderr,

@@ -84,10 +84,10 @@ grep -q "track-every must be >= 1, got 0" "$work/err" || fail "--track-every 0: 
 expect_status 2 "reconstruct --oracle-depths --poses" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.oracle" --oracle-depths --poses "$work/pods/groundtruth.tum" --quiet
 grep -q "oracle-depths and --poses exclude each other" "$work/err" || fail "--oracle-depths --poses: unclear error"
-expect_status 2 "reconstruct --passes 3" "$uwscan" reconstruct --dataset "$work/pods" \
-  --out "$work/pods.passes3" --passes 3 --quiet
-grep -q "passes must be auto, 1 or 2, got '3'" "$work/err" || fail "--passes 3: unclear error"
-[ ! -e "$work/pods.passes3" ] || fail "--passes 3 created its output folder"
+expect_status 2 "reconstruct --passes 4" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.passes4" --passes 4 --quiet
+grep -q "passes must be auto, 1, 2 or 3, got '4'" "$work/err" || fail "--passes 4: unclear error"
+[ ! -e "$work/pods.passes4" ] || fail "--passes 4 created its output folder"
 expect_status 2 "reconstruct --passes 2 --poses" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes2" --passes 2 --poses "$work/pods/groundtruth.tum" --quiet
 grep -q "passes 2 and --poses exclude each other" "$work/err" || fail "--passes 2 --poses: unclear error"

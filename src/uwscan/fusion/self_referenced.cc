@@ -237,7 +237,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // where an earlier attempt tracked them): the platform moves while they
   // are taken. After a loss the map restarts at the last known pose.
   const Rigid3d origin = last_pose_.value_or(Rigid3d());
-  // A second pass starts where the first did, on the first pass's surface.
+  // A later pass starts where the first did, on the pass before's surface.
   const bool use_prior = options_.prior_surface && !last_pose_;
   if (use_prior && !init_surface_) {
     while (!held_.empty() && held_.front().input.index < options_.prior_first_frame) {

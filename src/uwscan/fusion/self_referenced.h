@@ -83,9 +83,9 @@ struct SelfReferencedOptions {
   // When set, features take their depth from the truth (DepthOracle), not
   // from the laser surface; the surface still decides when the map starts.
   std::shared_ptr<const DepthOracle> depth_oracle;
-  // A second pass over the same frames (`uwscan reconstruct --passes 2`):
-  // the surface the first pass measured over the whole scan, and the frame
-  // its map started at, which is this pass's origin too. The map starts
+  // A later pass over the same frames (`uwscan reconstruct --passes 2|3`):
+  // the surface the pass before measured over the whole scan, and the frame
+  // the first pass's map started at, which is this pass's origin too. The map starts
   // there at once on that surface, so features get the depth of surfaces the
   // laser reaches only later in the scan (a shaft in front of a hull) from
   // the first frame on.

@@ -45,10 +45,11 @@ void ReconstructJob::Check() const {
   if (self_referenced.max_tracking_width < 0)
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
-  if (passes < 0 || passes > 2)
-    throw UsageError("--passes must be auto, 1 or 2, got " + std::to_string(passes));
-  if (passes == 2 && poses_file)
-    throw UsageError("--passes 2 and --poses exclude each other (the passes are the odometry's)");
+  if (passes < 0 || passes > kMaxPasses)
+    throw UsageError("--passes must be auto, 1, 2 or 3, got " + std::to_string(passes));
+  if (passes > 1 && poses_file)
+    throw UsageError("--passes " + std::to_string(passes) +
+                     " and --poses exclude each other (the passes are the odometry's)");
   if (oracle_depths && poses_file)
     throw UsageError(
         "--oracle-depths and --poses exclude each other (the oracle feeds the odometry, which "
@@ -166,7 +167,7 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"triangulation", seconds_triangulate},
             {"pose_estimation", seconds_pose},
             {"io", seconds_io},
-            {"first_pass", seconds_first_pass}}},
+            {"earlier_passes", seconds_earlier_passes}}},
           {"passes", passes},
           {"sequence_duration_s", sequence_duration_s},
           {"real_time_factor", RealTimeFactor()}};
@@ -258,14 +259,14 @@ std::shared_ptr<const fusion::DepthOracle> LoadDepthOracle(const fs::path& datas
 struct MeasuredScene {
   std::shared_ptr<const fusion::SurfaceModel> surface;
   int first_frame = -1;
-  double seconds = 0.0;  // the pass's
+  double seconds = 0.0;  // of this pass and those before it
 };
 
 // One pass over the frames: writes the outputs and returns the report;
-// `prior` (a second pass) starts the self-referenced odometry on an
-// earlier pass's surface, `measured` receives this pass's.
+// `prior` (a later pass) starts the self-referenced odometry on the pass
+// before's surface, `measured` receives this pass's. `pass` counts from 1.
 ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::PoseProvider> provider,
-                          const MeasuredScene* prior, MeasuredScene* measured) {
+                          int pass, const MeasuredScene* prior, MeasuredScene* measured) {
   const auto start = std::chrono::steady_clock::now();
   const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
   const Camera& camera = rig.CameraByName(job.camera_name);
@@ -326,8 +327,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
                         : 0.0;
   long total_frames = static_cast<long>(frames.size());
   for (const auto& other : others) total_frames += static_cast<long>(other.frames.size());
-  ProgressBar progress(prior ? "reconstruct, second pass" : "reconstruct", total_frames,
-                       !job.quiet);
+  ProgressBar progress(pass > 1 ? "reconstruct, pass " + std::to_string(pass) : "reconstruct",
+                       total_frames, !job.quiet);
   long frames_done = 0;
   std::optional<Rigid3d> first_pose;
   std::vector<StampedPose> placed_poses;  // the main camera's, in time order
@@ -355,6 +356,15 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   };
   std::map<int, Pending> pending;
   int frames_placed = 0;
+  // What a later pass starts from. The odometry's own surface when it
+  // started from nothing; when it started from a prior, that surface holds
+  // the prior's samples too (most of its bounded sample of the scene), so
+  // this pass's profiles are gathered alone, placed with its poses.
+  std::shared_ptr<fusion::SurfaceModel> placed_surface;
+  if (measured && prior) {
+    placed_surface = std::make_shared<fusion::SurfaceModel>(camera, Rigid3d(),
+                                                            job.self_referenced.surface);
+  }
   const auto place = [&](const std::vector<fusion::PoseUpdate>& updates) {
     for (const auto& update : updates) {
       const auto it = pending.find(update.frame);
@@ -365,6 +375,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       line_stage.SetPose(update.frame, update.world_from_camera);
       ++frames_placed;
       add_profile(it->second.profile, update.frame, update.world_from_camera, *first_pose);
+      if (placed_surface) placed_surface->AddProfile(update.world_from_camera, it->second.profile);
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
@@ -396,7 +407,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   }
   place(provider->Finish());
   if (self_referenced && measured) {
-    measured->surface = self_referenced->MeasuredSurface();
+    measured->surface = placed_surface ? placed_surface : self_referenced->MeasuredSurface();
     measured->first_frame = self_referenced->FirstFrameWithPose();
   }
   report.frames_without_pose = report.frames - frames_placed;
@@ -454,9 +465,9 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   cloud.Close();
   uncompensated.Close();
   trajectory.Commit();
-  report.passes = prior ? 2 : 1;
-  report.seconds_first_pass = prior ? prior->seconds : 0.0;
-  report.seconds = Seconds(start) + report.seconds_first_pass;
+  report.passes = pass;
+  report.seconds_earlier_passes = prior ? prior->seconds : 0.0;
+  report.seconds = Seconds(start) + report.seconds_earlier_passes;
   if (measured) measured->seconds = report.seconds;
   nlohmann::json json = report.ToJson();
   json["dataset"] = fs::absolute(job.dataset).string();
@@ -471,14 +482,21 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
   if (provider || job.poses_file || job.passes == 1)
-    return RunPass(job, std::move(provider), nullptr, nullptr);
+    return RunPass(job, std::move(provider), 1, nullptr, nullptr);
   MeasuredScene measured;
-  const ReconstructReport first = RunPass(job, nullptr, nullptr, &measured);
-  // Auto: a second pass only where the first found a surface in front of
-  // the scene's main one, whose depths the features had to guess until the
+  ReconstructReport report = RunPass(job, nullptr, 1, nullptr, &measured);
+  // Auto: more passes only where the first found a surface in front of the
+  // scene's main one, whose depths the features had to guess until the
   // laser reached it.
-  if (!measured.surface || (job.passes == 0 && !measured.surface->HasFrontSurface())) return first;
-  return RunPass(job, nullptr, &measured, nullptr);
+  if (!measured.surface || (job.passes == 0 && !measured.surface->HasFrontSurface())) return report;
+  const int passes = job.passes == 0 ? ReconstructJob::kMaxPasses : job.passes;
+  for (int pass = 2; pass <= passes; ++pass) {
+    MeasuredScene next;
+    report = RunPass(job, nullptr, pass, &measured, pass < passes ? &next : nullptr);
+    if (pass < passes && !next.surface) break;  // lost at once: nothing better to start from
+    measured = std::move(next);
+  }
+  return report;
 }
 
 }  // namespace uwscan

@@ -58,16 +58,20 @@ struct ReconstructJob {
   // depth from the simulator's true scene (scene.yaml, groundtruth.tum)
   // instead of the laser surface (fusion::DepthOracle).
   bool oracle_depths = false;
-  // Passes of the self-referenced odometry over the frames. In a second
-  // pass the features take their depths from the surface the first
+  // Passes of the self-referenced odometry over the frames. In a later
+  // pass the features take their depths from the surface the pass before
   // measured over the whole scan, from the first frame on
   // (SelfReferencedOptions::prior_surface), not from what the laser has
   // swept so far: for a scene with a surface in front of its main one (a
   // shaft before a hull), whose depth the first pass had to guess until the
-  // laser reached it. 0 (auto): a second pass only when the first found such
-  // a surface (SurfaceModel::HasFrontSurface); 1, 2: so many. A second pass
-  // doubles the time; its outputs replace the first's.
+  // laser reached it. The second pass's surface is placed with poses that
+  // had those depths from the start, so a third pass starts from a truer
+  // one; a fourth changes nothing more (BENCHMARKS.md). 0 (auto): three
+  // passes when the first found such a surface
+  // (SurfaceModel::HasFrontSurface), else one; 1, 2, 3: so many. Each pass
+  // costs the time of the first; the last one's outputs replace the others'.
   int passes = 0;
+  static constexpr int kMaxPasses = 3;  // also auto's, when it takes more than one
   void Check() const;
 };
 
@@ -101,7 +105,7 @@ struct ReconstructReport {
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   int passes = 1;                   // the self-referenced odometry's (ReconstructJob::passes)
-  double seconds_first_pass = 0.0;  // of a second pass's first (included in `seconds`)
+  double seconds_earlier_passes = 0.0;  // of the passes before the last (included in `seconds`)
   double sequence_duration_s = 0.0;  // from the frame timestamps
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider
