@@ -85,10 +85,10 @@ struct SelfReferencedOptions {
   std::shared_ptr<const DepthOracle> depth_oracle;
   // A later pass over the same frames (`uwscan reconstruct --passes 2|3`):
   // the surface the pass before measured over the whole scan, and the frame
-  // the first pass's map started at, which is this pass's origin too. The map starts
-  // there at once on that surface, so features get the depth of surfaces the
-  // laser reaches only later in the scan (a shaft in front of a hull) from
-  // the first frame on.
+  // the first pass's map started at, which is this pass's origin too. The
+  // map starts there at once on that surface, so features get the depth of
+  // surfaces the laser reaches only later in the scan (a shaft in front of
+  // a hull) from the first frame on.
   std::shared_ptr<const SurfaceModel> prior_surface;
   int prior_first_frame = -1;
   void Check() const;

@@ -362,8 +362,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   // this pass's profiles are gathered alone, placed with its poses.
   std::shared_ptr<fusion::SurfaceModel> placed_surface;
   if (measured && prior) {
-    placed_surface = std::make_shared<fusion::SurfaceModel>(camera, Rigid3d(),
-                                                            job.self_referenced.surface);
+    placed_surface =
+        std::make_shared<fusion::SurfaceModel>(camera, Rigid3d(), job.self_referenced.surface);
   }
   const auto place = [&](const std::vector<fusion::PoseUpdate>& updates) {
     for (const auto& update : updates) {
@@ -493,7 +493,6 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   for (int pass = 2; pass <= passes; ++pass) {
     MeasuredScene next;
     report = RunPass(job, nullptr, pass, &measured, pass < passes ? &next : nullptr);
-    if (pass < passes && !next.surface) break;  // lost at once: nothing better to start from
     measured = std::move(next);
   }
   return report;

@@ -104,9 +104,9 @@ struct ReconstructReport {
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
-  int passes = 1;                   // the self-referenced odometry's (ReconstructJob::passes)
+  int passes = 1;                       // the self-referenced odometry's (ReconstructJob::passes)
   double seconds_earlier_passes = 0.0;  // of the passes before the last (included in `seconds`)
-  double sequence_duration_s = 0.0;  // from the frame timestamps
+  double sequence_duration_s = 0.0;     // from the frame timestamps
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider
   std::vector<CameraReport> other_cameras;
