@@ -8,6 +8,17 @@
 
 namespace uwscan::cli {
 
+namespace {
+
+// " in three passes ..." for the summary line; nothing for one pass.
+std::string PassesNote(int passes, bool automatic) {
+  if (passes <= 1) return "";
+  return std::string(" in ") + (passes == 2 ? "two" : "three") + " passes" +
+         (automatic ? " (a surface in front of the main one)" : "");
+}
+
+}  // namespace
+
 void RegisterReconstructCommand(CLI::App& app) {
   auto job = std::make_shared<ReconstructJob>();
   auto dataset = std::make_shared<std::string>();
@@ -128,11 +139,8 @@ void RegisterReconstructCommand(CLI::App& app) {
                    "reconstruct: %d frames (%d with a laser line, %d without pose), %ld points, "
                    "poses from %s%s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
-                   r.pose_source.c_str(),
-                   r.passes == 1   ? ""
-                   : r.passes == 2 ? " in two passes (a surface in front of the main one)"
-                                   : " in three passes (a surface in front of the main one)",
-                   r.seconds, r.RealTimeFactor(), out->c_str());
+                   r.pose_source.c_str(), PassesNote(r.passes, job->passes == 0).c_str(), r.seconds,
+                   r.RealTimeFactor(), out->c_str());
       for (const CameraReport& camera : r.other_cameras) {
         std::fprintf(stderr,
                      "reconstruct: camera %s with %s: %d frames (%d with a line), %ld points\n",
