@@ -264,9 +264,11 @@ struct MeasuredScene {
 
 // One pass over the frames: writes the outputs and returns the report;
 // `prior` (a later pass) starts the self-referenced odometry on the pass
-// before's surface, `measured` receives this pass's. `pass` counts from 1.
+// before's surface, `measured` receives this pass's. `pass` counts from 1
+// (of `passes`, 0 while not known).
 ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::PoseProvider> provider,
-                          int pass, const MeasuredScene* prior, MeasuredScene* measured) {
+                          int pass, int passes, const MeasuredScene* prior,
+                          MeasuredScene* measured) {
   const auto start = std::chrono::steady_clock::now();
   const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
   const Camera& camera = rig.CameraByName(job.camera_name);
@@ -327,8 +329,9 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
                         : 0.0;
   long total_frames = static_cast<long>(frames.size());
   for (const auto& other : others) total_frames += static_cast<long>(other.frames.size());
-  ProgressBar progress(pass > 1 ? "reconstruct, pass " + std::to_string(pass) : "reconstruct",
-                       total_frames, !job.quiet);
+  std::string label = "reconstruct";
+  if (passes > 1) label += ", pass " + std::to_string(pass) + " of " + std::to_string(passes);
+  ProgressBar progress(label, total_frames, !job.quiet);
   long frames_done = 0;
   std::optional<Rigid3d> first_pose;
   std::vector<StampedPose> placed_poses;  // the main camera's, in time order
@@ -482,9 +485,9 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
   if (provider || job.poses_file || job.passes == 1)
-    return RunPass(job, std::move(provider), 1, nullptr, nullptr);
+    return RunPass(job, std::move(provider), 1, 1, nullptr, nullptr);
   MeasuredScene measured;
-  ReconstructReport report = RunPass(job, nullptr, 1, nullptr, &measured);
+  ReconstructReport report = RunPass(job, nullptr, 1, job.passes, nullptr, &measured);
   // Auto: more passes only where the first found a surface in front of the
   // scene's main one, whose depths the features had to guess until the
   // laser reached it.
@@ -492,7 +495,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   const int passes = job.passes == 0 ? ReconstructJob::kMaxPasses : job.passes;
   for (int pass = 2; pass <= passes; ++pass) {
     MeasuredScene next;
-    report = RunPass(job, nullptr, pass, &measured, pass < passes ? &next : nullptr);
+    report = RunPass(job, nullptr, pass, passes, &measured, pass < passes ? &next : nullptr);
     measured = std::move(next);
   }
   return report;
