@@ -312,15 +312,17 @@ TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
 // until then. The first pass finds the surface in front, so by default two
 // more run, each from its first frame on the surface the pass before
 // measured over the whole scan; the shaft's cylinder then fits better than
-// with the INS-like trajectory, as the issue asks (coastal water, 640x480;
-// seed 71 was not used to develop the passes).
+// with the INS-like trajectory, as the issue asks (coastal water, 640x480).
+// On this sequence two passes are not enough: the second starts from the
+// first pass's misplaced shaft, the third from the second pass's own
+// profiles (from a surface mixed with the first pass's it does less well).
 TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   const fs::path root = TempFolder("passes");
   sim::ScenarioOptions options;
   options.width = 640;
   options.height = 480;
   options.frames = 120;
-  options.seed = 71;
+  options.seed = 73;
   ReconstructJob job = SimulatedJob(root, "hull", options);
   const auto shaft_residual = [&job](const ReconstructReport& report) {
     const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
@@ -336,6 +338,12 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   EXPECT_GT(automatic.seconds, automatic.seconds_earlier_passes);
   const double three_passes = shaft_residual(automatic);
 
+  job.out = root / "two";
+  job.passes = 2;
+  const ReconstructReport two = RunReconstruct(job);
+  EXPECT_EQ(two.passes, 2);
+  const double two_passes = shaft_residual(two);
+
   job.out = root / "one";
   job.passes = 1;
   const ReconstructReport one = RunReconstruct(job);
@@ -346,10 +354,14 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   job.poses_file = job.dataset / "ins.tum";
   job.passes = 0;
   const double ins = shaft_residual(RunReconstruct(job));
-  std::printf("shaft cylinder residual: three passes %.2f mm, one pass %.2f mm, INS %.2f mm\n",
-              three_passes * 1e3, one_pass * 1e3, ins * 1e3);
+  std::printf(
+      "shaft cylinder residual: three passes %.2f mm, two %.2f mm, one %.2f mm, INS %.2f mm\n",
+      three_passes * 1e3, two_passes * 1e3, one_pass * 1e3, ins * 1e3);
   EXPECT_LT(three_passes, 0.5 * ins);
   EXPECT_LT(three_passes, 0.5 * one_pass);
+  // 0.36 against 1.89 mm when written; a third pass on the second's surface
+  // mixed with the first's (the odometry's own) gave 0.65 mm.
+  EXPECT_LT(three_passes, 0.3 * two_passes);
   fs::remove_all(root);
 }
 
