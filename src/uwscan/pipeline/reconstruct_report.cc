@@ -1,0 +1,150 @@
+// The reconstruction job's checks, and its report as JSON and warnings.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+
+void ReconstructJob::Check() const {
+  detector.Check();
+  UWS_CHECK(max_frames >= 0, "--max-frames must be >= 0");
+  UWS_CHECK(!out.empty(), "--out: empty output folder name");
+  if (self_referenced.track_every < 1)
+    throw UsageError("--track-every must be >= 1, got " +
+                     std::to_string(self_referenced.track_every));
+  if (self_referenced.max_tracking_width < 0)
+    throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
+                     std::to_string(self_referenced.max_tracking_width));
+  if (passes < 0 || passes > kMaxPasses)
+    throw UsageError("--passes must be auto, 1, 2 or 3, got " + std::to_string(passes));
+  if (passes > 1 && poses_file)
+    throw UsageError("--passes " + std::to_string(passes) +
+                     " and --poses exclude each other (the passes are the odometry's)");
+  if (oracle_depths && poses_file)
+    throw UsageError(
+        "--oracle-depths and --poses exclude each other (the oracle feeds the odometry, which "
+        "--poses replaces)");
+}
+
+std::vector<std::string> ReconstructReport::Warnings() const {
+  std::vector<std::string> warnings;
+  const auto percent = [](double part, double whole) {
+    return std::to_string(static_cast<int>(std::lround(100.0 * part / std::max(whole, 1.0))));
+  };
+  const int frames_lit = frames - frames_laser_off;
+  if (frames_lit > 0 && frames_with_line < 0.9 * frames_lit) {
+    warnings.push_back("no laser line in " + percent(frames_lit - frames_with_line, frames_lit) +
+                       " % of the frames with the laser on (turbid or dark water, the line out "
+                       "of view or too weak): those frames add nothing to the cloud");
+  }
+  long main_points = points;  // the main camera's, placed: of frames with a pose
+  for (const auto& camera : other_cameras) main_points -= camera.points;
+  const int placed_frames = frames_with_line - frames_without_pose;
+  if (placed_frames > 0 && scan_lines > 0 &&
+      static_cast<double>(main_points) / placed_frames < 0.5 * scan_lines) {
+    warnings.push_back("the profiles are short: " + std::to_string(main_points / placed_frames) +
+                       " points per frame of " + std::to_string(scan_lines) +
+                       " scan lines (the line fades into the water or leaves the scene)");
+  }
+  if (frames_without_pose > 0) {
+    warnings.push_back(std::to_string(frames_without_pose) + " frame(s) (" +
+                       percent(frames_without_pose, frames) +
+                       " %) got no pose and are left out of the cloud (tracking not started or "
+                       "lost)");
+  }
+  for (const auto& camera : other_cameras) {
+    if (camera.frames_without_pose > 0 || camera.frames_with_line < 0.9 * camera.frames) {
+      warnings.push_back(
+          "camera " + camera.name + ": " + std::to_string(camera.frames - camera.frames_with_line) +
+          " frame(s) without a laser line, " + std::to_string(camera.frames_without_pose) +
+          " outside the main camera's trajectory (left out)");
+    }
+  }
+  const auto count = [&](const char* key) {
+    return pose_details.is_object() && pose_details.contains(key) &&
+                   pose_details[key].is_number_integer()
+               ? pose_details[key].get<int>()
+               : 0;
+  };
+  if (count("lost") > 0) {
+    warnings.push_back("visual tracking was lost " + std::to_string(count("lost")) +
+                       " time(s) and restarted (too few features: turbid water, no texture, "
+                       "fast motion)");
+  }
+  // A hover keeps its keyframe for many frames; a new one every few frames
+  // means the features do not last (low contrast), and the poses suffer.
+  if (count("tracked") >= 20 && count("keyframes") > 0.3 * count("tracked")) {
+    warnings.push_back("features are short-lived: a new keyframe in " +
+                       percent(count("keyframes"), count("tracked")) +
+                       " % of the tracked frames (low contrast: turbid water or a dark, bare "
+                       "scene); expect a less accurate trajectory");
+  }
+  if (frames_with_static_detections > 0) {
+    warnings.push_back("in " + std::to_string(frames_with_static_detections) +
+                       " frame(s) line candidates on 5 % or more of the scan lines behaved like "
+                       "scene texture (stayed put while the laser swept, or moved with the scene "
+                       "under a fixed laser: a stripe or a reflection in the scene that could "
+                       "be taken for the line, or a surface the sheet grazes): ignored, " +
+                       std::to_string(static_detections_removed) +
+                       " in all (--keep-static-detections keeps them)");
+  }
+  if (count("bundle_adjustments_stopped_by_time_limit") > 0) {
+    warnings.push_back(std::to_string(count("bundle_adjustments_stopped_by_time_limit")) + " of " +
+                       std::to_string(count("bundle_adjustments")) +
+                       " windowed bundle adjustments stopped at their time limit before "
+                       "converging: the trajectory depends on the machine's load "
+                       "(--ba-time-limit)");
+  }
+  if (count("implausible_poses_rejected") > 0) {
+    warnings.push_back(std::to_string(count("implausible_poses_rejected")) +
+                       " pose(s) moved faster than a vehicle can and were rejected");
+  }
+  return warnings;
+}
+
+nlohmann::json CameraReport::ToJson() const {
+  return {{"camera", name},
+          {"laser", laser},
+          {"frames", frames},
+          {"frames_with_line", frames_with_line},
+          {"frames_without_pose", frames_without_pose},
+          {"points", points}};
+}
+
+nlohmann::json ReconstructReport::ToJson() const {
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const auto& camera : other_cameras) cameras.push_back(camera.ToJson());
+  return {{"frames", frames},
+          {"warnings", Warnings()},
+          {"frames_with_line", frames_with_line},
+          {"frames_laser_off", frames_laser_off},
+          {"lines_detected_on_difference_images", frames_on_difference},
+          {"frames_without_pose", frames_without_pose},
+          {"points", points},
+          {"points_uncompensated", points_uncompensated},
+          {"triangulation_failures", triangulation_failures},
+          {"static_candidates_ignored", static_detections_removed},
+          {"texture_candidates_matched_epipolar", texture_epipolar_matches},
+          {"line_ranges", line_ranges},
+          {"points_dropped_on_albedo_edges", albedo_edge_points},
+          {"frames_sweep_filter_restored", frames_sweep_filter_restored},
+          {"pose_source", pose_source},
+          {"pose", pose_details},
+          {"other_cameras", cameras},
+          {"timing_s",
+           {{"total", seconds},
+            {"laser_detection", seconds_detect},
+            {"triangulation", seconds_triangulate},
+            {"pose_estimation", seconds_pose},
+            {"io", seconds_io},
+            {"earlier_passes", seconds_earlier_passes}}},
+          {"passes", passes},
+          {"sequence_duration_s", sequence_duration_s},
+          {"real_time_factor", RealTimeFactor()}};
+}
+
+}  // namespace uwscan
