@@ -88,6 +88,10 @@ expect_status 2 "reconstruct --passes 4" "$uwscan" reconstruct --dataset "$work/
   --out "$work/pods.passes4" --passes 4 --quiet
 grep -q "passes must be auto, 1, 2 or 3, got '4'" "$work/err" || fail "--passes 4: unclear error"
 [ ! -e "$work/pods.passes4" ] || fail "--passes 4 created its output folder"
+expect_status 2 "reconstruct --window 2" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.window2" --window 2 --quiet
+grep -q "window must be at least 3" "$work/err" || fail "--window 2: unclear error"
+[ ! -e "$work/pods.window2" ] || fail "--window 2 created its output folder"
 expect_status 2 "reconstruct --passes 2 --poses" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes2" --passes 2 --poses "$work/pods/groundtruth.tum" --quiet
 grep -q "passes 2 and --poses exclude each other" "$work/err" || fail "--passes 2 --poses: unclear error"

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/pipeline/vo_run.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -19,6 +20,7 @@ void ReconstructJob::Check() const {
   if (self_referenced.max_tracking_width < 0)
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
+  CheckBundleAdjustmentFlags(self_referenced.odometry.ba);
   if (passes < 0 || passes > kMaxPasses)
     throw UsageError("--passes must be auto, 1, 2 or 3, got " + std::to_string(passes));
   if (passes > 1 && poses_file)

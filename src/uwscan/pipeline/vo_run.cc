@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -47,7 +48,19 @@ void VoJob::Check() const {
   if (!(pinhole_fit_depth_m > 0)) throw UsageError("--pinhole-fit-depth must be > 0");
   if (mask_margin_px < 0) throw UsageError("--mask-margin must be >= 0");
   if (max_tracking_width < 0) throw UsageError("--max-tracking-width must be >= 0");
+  CheckBundleAdjustmentFlags(odometry.ba);
   odometry.Check();
+}
+
+void CheckBundleAdjustmentFlags(const vo::BundleAdjustmentOptions& ba) {
+  if (ba.window_size <= ba.num_fixed_keyframes) {
+    throw UsageError("--window must be at least " + std::to_string(ba.num_fixed_keyframes + 1) +
+                     " (the window's oldest " + std::to_string(ba.num_fixed_keyframes) +
+                     " keyframes are held fixed), got " + std::to_string(ba.window_size));
+  }
+  if (!(ba.max_solver_time_s > 0) || !std::isfinite(ba.max_solver_time_s))
+    throw UsageError("--ba-time-limit must be > 0 seconds");
+  if (ba.max_iterations < 1) throw UsageError("--ba-iterations must be >= 1");
 }
 
 VoRunSummary RunVisualOdometry(const VoJob& job) {

@@ -43,6 +43,11 @@ struct VoJob {
   void Check() const;
 };
 
+// The windowed BA's command-line options (`--window`, `--ba-time-limit`,
+// `--ba-iterations`, shared by `uwscan vo` and `uwscan reconstruct`):
+// throws UsageError naming the flag.
+void CheckBundleAdjustmentFlags(const vo::BundleAdjustmentOptions& ba);
+
 struct VoRunSummary {
   int frames = 0, posed = 0, tracked = 0, lost = 0, invalid = 0, reinitialised = 0;
   int keyframes = 0, gaps = 0, unreadable = 0;
