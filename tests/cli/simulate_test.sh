@@ -92,6 +92,10 @@ expect_status 2 "reconstruct --window 2" "$uwscan" reconstruct --dataset "$work/
   --out "$work/pods.window2" --window 2 --quiet
 grep -q "window must be at least 3" "$work/err" || fail "--window 2: unclear error"
 [ ! -e "$work/pods.window2" ] || fail "--window 2 created its output folder"
+expect_status 2 "reconstruct --smoothing-half-window -1" "$uwscan" reconstruct \
+  --dataset "$work/pods" --out "$work/pods.smooth" --smoothing-half-window -1 --quiet
+grep -q "smoothing-half-window must be >= 0" "$work/err" || fail "--smoothing-half-window -1: unclear error"
+[ ! -e "$work/pods.smooth" ] || fail "--smoothing-half-window -1 created its output folder"
 expect_status 2 "reconstruct --passes 2 --poses" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes2" --passes 2 --poses "$work/pods/groundtruth.tum" --quiet
 grep -q "passes 2 and --poses exclude each other" "$work/err" || fail "--passes 2 --poses: unclear error"

@@ -12,7 +12,8 @@ namespace uwscan {
 
 void ReconstructJob::Check() const {
   detector.Check();
-  UWS_CHECK(max_frames >= 0, "--max-frames must be >= 0");
+  if (max_frames < 0)
+    throw UsageError("--max-frames must be >= 0 (0 = all), got " + std::to_string(max_frames));
   UWS_CHECK(!out.empty(), "--out: empty output folder name");
   if (self_referenced.track_every < 1)
     throw UsageError("--track-every must be >= 1, got " +
@@ -20,7 +21,15 @@ void ReconstructJob::Check() const {
   if (self_referenced.max_tracking_width < 0)
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
-  CheckBundleAdjustmentFlags(self_referenced.odometry.ba);
+  CheckOdometryFlags(self_referenced.odometry);
+  if (self_referenced.smoothing_half_window < 0) {
+    throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses), got " +
+                     std::to_string(self_referenced.smoothing_half_window));
+  }
+  if (self_referenced.init_refinements < 0) {
+    throw UsageError("--init-refinements must be >= 0, got " +
+                     std::to_string(self_referenced.init_refinements));
+  }
   if (passes < 0 || passes > kMaxPasses)
     throw UsageError("--passes must be auto, 1, 2 or 3, got " + std::to_string(passes));
   if (passes > 1 && poses_file)

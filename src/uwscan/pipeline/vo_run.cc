@@ -48,11 +48,12 @@ void VoJob::Check() const {
   if (!(pinhole_fit_depth_m > 0)) throw UsageError("--pinhole-fit-depth must be > 0");
   if (mask_margin_px < 0) throw UsageError("--mask-margin must be >= 0");
   if (max_tracking_width < 0) throw UsageError("--max-tracking-width must be >= 0");
-  CheckBundleAdjustmentFlags(odometry.ba);
+  CheckOdometryFlags(odometry);
   odometry.Check();
 }
 
-void CheckBundleAdjustmentFlags(const vo::BundleAdjustmentOptions& ba) {
+void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
+  const vo::BundleAdjustmentOptions& ba = odometry.ba;
   if (ba.window_size <= ba.num_fixed_keyframes) {
     throw UsageError("--window must be at least " + std::to_string(ba.num_fixed_keyframes + 1) +
                      " (the window's oldest " + std::to_string(ba.num_fixed_keyframes) +
@@ -61,6 +62,18 @@ void CheckBundleAdjustmentFlags(const vo::BundleAdjustmentOptions& ba) {
   if (!(ba.max_solver_time_s > 0) || !std::isfinite(ba.max_solver_time_s))
     throw UsageError("--ba-time-limit must be > 0 seconds");
   if (ba.max_iterations < 1) throw UsageError("--ba-iterations must be >= 1");
+  const vo::FeatureTrackerOptions& tracker = odometry.tracker;
+  if (tracker.klt_window_px < 5 || tracker.klt_window_px % 2 == 0) {
+    throw UsageError("--klt-window must be odd and >= 5, got " +
+                     std::to_string(tracker.klt_window_px));
+  }
+  if (tracker.max_per_cell < 1)
+    throw UsageError("--per-cell must be >= 1, got " + std::to_string(tracker.max_per_cell));
+  if (tracker.max_dormant_frames < 0) {
+    throw UsageError("--max-dormant-frames must be >= 0, got " +
+                     std::to_string(tracker.max_dormant_frames));
+  }
+  if (!(odometry.initial_median_depth_m > 0)) throw UsageError("--initial-depth must be > 0 m");
 }
 
 VoRunSummary RunVisualOdometry(const VoJob& job) {

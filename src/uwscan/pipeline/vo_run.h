@@ -43,10 +43,11 @@ struct VoJob {
   void Check() const;
 };
 
-// The windowed BA's command-line options (`--window`, `--ba-time-limit`,
-// `--ba-iterations`, shared by `uwscan vo` and `uwscan reconstruct`):
+// The odometry's command-line options (`--window`, `--ba-time-limit`,
+// `--ba-iterations`, `--klt-window`, `--per-cell`, `--max-dormant-frames`,
+// `--initial-depth`; `uwscan vo` and `uwscan reconstruct` share some):
 // throws UsageError naming the flag.
-void CheckBundleAdjustmentFlags(const vo::BundleAdjustmentOptions& ba);
+void CheckOdometryFlags(const vo::OdometryOptions& odometry);
 
 struct VoRunSummary {
   int frames = 0, posed = 0, tracked = 0, lost = 0, invalid = 0, reinitialised = 0;
