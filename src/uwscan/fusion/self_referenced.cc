@@ -277,8 +277,9 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // frames on it, place their profiles with those poses, and start again
   // from that surface; if it is too narrow for the scene's plane after all,
   // wait for more frames.
-  for (int pass = 0; pass < (use_prior ? 0 : options_.init_refinements) && held_.size() > 2;
-       ++pass) {
+  // (A later pass starts on a surface placed with tracked poses already.)
+  const int refinements = use_prior ? 0 : options_.init_refinements;
+  for (int refinement = 0; refinement < refinements && held_.size() > 2; ++refinement) {
     for (size_t i = 1; i < held_.size(); ++i) {
       Held& h = held_[i];
       const vo::FrameResult result =

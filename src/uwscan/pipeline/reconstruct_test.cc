@@ -19,16 +19,22 @@ namespace uwscan {
 namespace {
 namespace fs = std::filesystem;
 
+// A simulated scan's size, length and seed; the rest the scenario's own.
+sim::ScenarioOptions ScanOptions(int width, int height, int frames, uint64_t seed) {
+  sim::ScenarioOptions options;
+  options.width = width;
+  options.height = height;
+  options.frames = frames;
+  options.seed = seed;
+  return options;
+}
+
 class ReconstructTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     root_ = fs::temp_directory_path() / ("uwscan_reconstruct_test_" + std::to_string(::getpid()));
     fs::remove_all(root_);
-    sim::ScenarioOptions options;
-    options.width = 480;
-    options.height = 360;
-    options.frames = 24;
-    options.seed = 21;
+    sim::ScenarioOptions options = ScanOptions(480, 360, 24, 21);
     options.motion_amplitude = 0.02;
     sim::SimulateScenario("tank-target", options, root_ / "data");
   }
@@ -111,11 +117,7 @@ ReconstructJob SimulatedJob(const fs::path& root, const std::string& scenario,
 // target, simulated into root/data, and a job placing it with the true poses.
 ReconstructJob StripeScanWithTruePoses(const fs::path& root, int frames, uint64_t seed,
                                        bool interleave) {
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = frames;
-  options.seed = seed;
+  sim::ScenarioOptions options = ScanOptions(480, 360, frames, seed);
   options.painted_stripe_m = 0.02;
   options.painted_stripe_colour = "white";
   options.laser_interleave = interleave;
@@ -219,11 +221,7 @@ TEST(ReconstructSweepFilter, StaticCandidatesOfAPaintedStripeAreIgnored) {
 // reach beyond where camera 0's line sweeps.
 TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
   const fs::path root = TempFolder("two_pods");
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = 20;
-  options.seed = 35;
+  sim::ScenarioOptions options = ScanOptions(480, 360, 20, 35);
   options.pods = 2;
   ReconstructJob job = SimulatedJob(root, "tank-target", options);
   ASSERT_TRUE(fs::exists(root / "data" / "cam1" / "frames.csv"));
@@ -278,11 +276,7 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
 // (thesis §5.5): the motion filter leaves them out and the floor is right.
 TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
   const fs::path root = TempFolder("motion_filter");
-  sim::ScenarioOptions options;
-  options.width = 640;
-  options.height = 480;
-  options.frames = 40;
-  options.seed = 1;
+  sim::ScenarioOptions options = ScanOptions(640, 480, 40, 1);
   options.painted_stripe_m = 0.02;
   ReconstructJob job = SimulatedJob(root, "seabed-transect", options);
   job.poses_file = job.dataset / "groundtruth.tum";
@@ -318,11 +312,7 @@ TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
 // profiles (from a surface mixed with the first pass's it does less well).
 TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   const fs::path root = TempFolder("passes");
-  sim::ScenarioOptions options;
-  options.width = 640;
-  options.height = 480;
-  options.frames = 120;
-  options.seed = 73;
+  sim::ScenarioOptions options = ScanOptions(640, 480, 120, 73);
   ReconstructJob job = SimulatedJob(root, "hull", options);
   const auto shaft_residual = [&job](const ReconstructReport& report) {
     const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
@@ -331,29 +321,24 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
     EXPECT_GT(report.points, 10000);
     return shaft ? shaft->robust_fit_rms_m : 1e9;
   };
-  job.out = root / "auto";
-  const ReconstructReport automatic = RunReconstruct(job);
+  const auto run = [&](const std::string& name, int passes) {
+    job.out = root / name;
+    job.passes = passes;
+    return RunReconstruct(job);
+  };
+  const ReconstructReport automatic = run("auto", 0);
   EXPECT_EQ(automatic.passes, 3);
   EXPECT_GT(automatic.seconds_earlier_passes, 0.0);
   EXPECT_GT(automatic.seconds, automatic.seconds_earlier_passes);
   const double three_passes = shaft_residual(automatic);
-
-  job.out = root / "two";
-  job.passes = 2;
-  const ReconstructReport two = RunReconstruct(job);
+  const ReconstructReport two = run("two", 2);
   EXPECT_EQ(two.passes, 2);
   const double two_passes = shaft_residual(two);
-
-  job.out = root / "one";
-  job.passes = 1;
-  const ReconstructReport one = RunReconstruct(job);
+  const ReconstructReport one = run("one", 1);
   EXPECT_EQ(one.passes, 1);
   const double one_pass = shaft_residual(one);
-
-  job.out = root / "ins";
   job.poses_file = job.dataset / "ins.tum";
-  job.passes = 0;
-  const double ins = shaft_residual(RunReconstruct(job));
+  const double ins = shaft_residual(run("ins", 0));
   std::printf(
       "shaft cylinder residual: three passes %.2f mm, two %.2f mm, one %.2f mm, INS %.2f mm\n",
       three_passes * 1e3, two_passes * 1e3, one_pass * 1e3, ins * 1e3);
@@ -373,11 +358,7 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
 // thread's timing to show, see BENCHMARKS.md "Reproducibility").
 TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   const fs::path root = TempFolder("reproducible");
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = 40;
-  options.seed = 21;
+  sim::ScenarioOptions options = ScanOptions(480, 360, 40, 21);
   ReconstructJob job = SimulatedJob(root, "tank-target", options);
   std::vector<std::string> trajectories;
   std::vector<std::unique_ptr<char[]>> clutter;  // moves later allocations elsewhere
