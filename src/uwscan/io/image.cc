@@ -1,9 +1,11 @@
 #include "uwscan/io/image.h"
 
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "uwscan/io/png.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 
@@ -25,7 +27,21 @@ void WritePng(const std::filesystem::path& path, const cv::Mat& image, int compr
 }
 
 cv::Mat ReadImage(const std::filesystem::path& path) {
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  std::vector<uint8_t> bytes;
+  {
+    std::ifstream file(path, std::ios::binary | std::ios::ate);
+    UWS_CHECK(file.good(), path.string(), ": cannot read image (cannot open the file)");
+    const std::streamoff size = file.tellg();
+    UWS_CHECK(size > 0, path.string(), ": cannot read image (empty file)");
+    bytes.resize(size_t(size));
+    file.seekg(0);
+    file.read(reinterpret_cast<char*>(bytes.data()), size);
+    UWS_CHECK(file.good(), path.string(), ": cannot read image (read error)");
+  }
+  if (HasPngSignature(bytes)) {
+    if (std::optional<cv::Mat> image = DecodePng(bytes, path.string())) return *image;
+  }
+  cv::Mat image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
   UWS_CHECK(!image.empty(), path.string(), ": cannot read image");
   return image;
 }
