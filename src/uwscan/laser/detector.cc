@@ -151,7 +151,6 @@ struct PeakProfile {
 struct Scratch {
   std::vector<int32_t> band;
   std::vector<int> candidates;
-  std::vector<uint8_t> flags;
   std::vector<PeakProfile> profiles;  // of the selected peaks
   BandPass bandpass;
 };
@@ -238,25 +237,22 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
   const int noise_half = std::max(outer + 2, o.noise_half_window_px / laser->stride);
   const int32_t* band = s->band.data();
   // Step 4, non-maximum suppression: local maxima above the threshold.
-  // Most samples are below the threshold: flag them in a vectorisable loop,
-  // then skip eight flags at a time.
+  // Branch-free compaction: every index is written, the count advances
+  // only for a local maximum (on a textured tank frame some 40 of a row's
+  // 640 samples, scattered, so a branch per sample mispredicts).
   auto& candidates = s->candidates;
-  candidates.clear();
-  auto& flags = s->flags;
-  flags.assign(n + 8, 0);
-  uint8_t* __restrict flag = flags.data();
-  const int32_t* __restrict band_r = band;
-  for (int i = 1; i + 1 < n; ++i) {
-    flag[i] = (band_r[i] >= threshold) & (band_r[i] >= band_r[i - 1]) & (band_r[i] > band_r[i + 1]);
-  }
-  for (int base = 0; base < n; base += 8) {
-    uint64_t word;
-    std::memcpy(&word, flag + base, sizeof(word));
-    if (!word) continue;
-    for (int i = base; i < base + 8; ++i) {
-      if (flag[i]) candidates.push_back(i);
+  candidates.resize(std::max(n, 1));
+  int count = 0;
+  {
+    int* __restrict out = candidates.data();
+    const int32_t* __restrict band_r = band;
+    for (int i = 1; i + 1 < n; ++i) {
+      const int32_t v = band_r[i];
+      out[count] = i;
+      count += int(v >= threshold) & int(v >= band_r[i - 1]) & int(v > band_r[i + 1]);
     }
   }
+  candidates.resize(count);
   for (const int i : candidates) {
     const int32_t b = band[i];
     bool is_max = true;
