@@ -307,9 +307,11 @@ TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
 // more run, each from its first frame on the surface the pass before
 // measured over the whole scan; the shaft's cylinder then fits better than
 // with the INS-like trajectory, as the issue asks (coastal water, 640x480).
-// On this sequence two passes are not enough: the second starts from the
-// first pass's misplaced shaft, the third from the second pass's own
-// profiles (from a surface mixed with the first pass's it does less well).
+// The second pass starts from the first pass's misplaced shaft, the third
+// from the second pass's own profiles; whether two passes already suffice
+// varies from seed to seed (on this one: 1.89 mm when the test was written,
+// 0.72 mm since tracks start from their predicted positions), the third
+// brings the shaft to the floor of the method either way.
 TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   const fs::path root = TempFolder("passes");
   sim::ScenarioOptions options = ScanOptions(640, 480, 120, 73);
@@ -343,10 +345,12 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
       "shaft cylinder residual: three passes %.2f mm, two %.2f mm, one %.2f mm, INS %.2f mm\n",
       three_passes * 1e3, two_passes * 1e3, one_pass * 1e3, ins * 1e3);
   EXPECT_LT(three_passes, 0.5 * ins);
-  EXPECT_LT(three_passes, 0.5 * one_pass);
-  // 0.36 against 1.89 mm when written; a third pass on the second's surface
-  // mixed with the first's (the odometry's own) gave 0.65 mm.
-  EXPECT_LT(three_passes, 0.3 * two_passes);
+  EXPECT_LT(three_passes, 0.2 * one_pass);
+  EXPECT_LT(three_passes, two_passes);
+  // 0.36-0.38 mm here (the 31 hull sequences of BENCHMARKS.md: 0.35-0.63 mm,
+  // median 0.46, but 1.26 on coastal seed 79); a third pass on the second's
+  // surface mixed with the first's (the odometry's own) gave 0.65 mm.
+  EXPECT_LT(three_passes, 0.5e-3);
   fs::remove_all(root);
 }
 

@@ -16,6 +16,7 @@ void FeatureTrackerOptions::Check() const {
   UWS_CHECK(min_distance_px >= 1, "min_distance_px must be >= 1");
   UWS_CHECK(klt_window_px >= 5 && klt_window_px % 2 == 1, "klt_window_px must be odd and >= 5");
   UWS_CHECK(klt_pyramid_levels >= 0 && klt_pyramid_levels <= 6, "klt_pyramid_levels in 0..6");
+  UWS_CHECK(klt_predicted_levels <= 6, "klt_predicted_levels must be <= 6");
   UWS_CHECK(forward_backward_px > 0, "forward_backward_px must be > 0");
   UWS_CHECK(border_px >= 0, "border_px must be >= 0");
   UWS_CHECK(max_dormant_frames >= 0, "max_dormant_frames must be >= 0");
@@ -93,6 +94,79 @@ bool Inside(const cv::Point2f& p, const cv::Size& size, double border) {
 
 }  // namespace
 
+void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
+                                          const cv::Size& window,
+                                          const cv::TermCriteria& criteria,
+                                          std::vector<cv::Point2f>* previous,
+                                          std::vector<cv::Point2f>* current,
+                                          std::vector<cv::Point2f>* back,
+                                          std::vector<uint8_t>* status,
+                                          std::vector<uint8_t>* status_back,
+                                          std::vector<uint8_t>* from_prediction) const {
+  const size_t n = tracks_.size();
+  from_prediction->assign(n, 0);
+  previous->clear();
+  for (const auto& t : tracks_) previous->emplace_back(float(t.pixel.x()), float(t.pixel.y()));
+  std::vector<float> error;
+  // The backward pass starts where a consistent track must end (the
+  // previous position), so full resolution suffices: a track that does
+  // not come back to within the check from there is rejected either way.
+  auto backward = [&](const std::vector<cv::Point2f>& from, const std::vector<cv::Point2f>& start,
+                      std::vector<cv::Point2f>* to, std::vector<uint8_t>* ok) {
+    *to = start;
+    cv::calcOpticalFlowPyrLK(pyramid, *previous_pyramid_, from, *to, *ok, error, window, 0,
+                             criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  };
+  auto consistent = [&](size_t i) {
+    const cv::Point2f& p = (*current)[i];
+    return (*status)[i] && (*status_back)[i] && std::isfinite(p.x) && std::isfinite(p.y) &&
+           cv::norm((*back)[i] - (*previous)[i]) <= options_.forward_backward_px;
+  };
+  const int full = options_.klt_pyramid_levels;
+  const int predicted_levels = options_.klt_predicted_levels;
+  if (predicted_levels < 0 || predicted_levels >= full) {
+    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, *previous, *current, *status, error,
+                             window, full, criteria);
+    backward(*current, *previous, back, status_back);
+    return;
+  }
+  // Each track starts where its last displacement predicts it (a smooth
+  // motion, as of a hovering platform at a high frame rate), so the top of
+  // the pyramid is not needed; the tracks that fail from there, or end
+  // farther from the prediction than the lower levels reach, are tracked
+  // again from scratch over the full pyramid.
+  std::vector<cv::Point2f> predicted(n);
+  for (size_t i = 0; i < n; ++i) {
+    const FeatureTrack& t = tracks_[i];
+    predicted[i] = cv::Point2f(float(t.pixel.x() + t.flow.x()), float(t.pixel.y() + t.flow.y()));
+  }
+  *current = predicted;
+  cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, *previous, *current, *status, error,
+                           window, predicted_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  backward(*current, *previous, back, status_back);
+  const double reach = double(1 << predicted_levels) * options_.klt_window_px / 4.0;
+  std::vector<size_t> retry;
+  for (size_t i = 0; i < n; ++i) {
+    if (!consistent(i) || cv::norm((*current)[i] - predicted[i]) > reach) retry.push_back(i);
+  }
+  from_prediction->assign(n, 1);
+  for (size_t i : retry) (*from_prediction)[i] = 0;
+  if (retry.empty()) return;
+  std::vector<cv::Point2f> from, to, to_back;
+  std::vector<uint8_t> ok, ok_back;
+  for (size_t i : retry) from.push_back((*previous)[i]);
+  cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, from, to, ok, error, window, full,
+                           criteria);
+  backward(to, from, &to_back, &ok_back);
+  for (size_t k = 0; k < retry.size(); ++k) {
+    const size_t i = retry[k];
+    (*current)[i] = to[k];
+    (*back)[i] = to_back[k];
+    (*status)[i] = ok[k];
+    (*status_back)[i] = ok_back[k];
+  }
+}
+
 TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
   UWS_CHECK(gray.type() == CV_8UC1, "FeatureTracker: expected an 8-bit grey image");
   UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
@@ -105,20 +179,11 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
   if (!previous_gray_.empty() && previous_gray_.size() != gray.size()) Reset();
   if (previous_pyramid_ && !tracks_.empty()) {
     std::vector<cv::Point2f> previous, current, back;
-    for (const auto& t : tracks_) previous.emplace_back(float(t.pixel.x()), float(t.pixel.y()));
-    std::vector<uint8_t> status, status_back;
-    std::vector<float> error;
+    std::vector<uint8_t> status, status_back, from_prediction;
     const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                                     options_.klt_max_iterations, 0.01);
-    cv::calcOpticalFlowPyrLK(*previous_pyramid_, *pyramid, previous, current, status, error, window,
-                             options_.klt_pyramid_levels, criteria);
-    // The backward pass starts where a consistent track must end (the
-    // previous position), so full resolution suffices: a track that does
-    // not come back to within the check from there is rejected either way.
-    // A quarter of the pyramid's work (each level costs the same per track).
-    back = previous;
-    cv::calcOpticalFlowPyrLK(*pyramid, *previous_pyramid_, current, back, status_back, error,
-                             window, 0, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    TrackForwardBackward(*pyramid, window, criteria, &previous, &current, &back, &status,
+                         &status_back, &from_prediction);
     if (options_.anchor_refinement && anchor_pyramid_) {
       RefineFromAnchor(*pyramid, window, criteria, &current);
     }
@@ -148,9 +213,12 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
       }
       vo::FeatureTrack t = tracks_[i];
       flow_from.push_back(t.pixel);
-      t.pixel = Eigen::Vector2d(p.x, p.y);
+      const Eigen::Vector2d moved(p.x, p.y);
+      t.flow = moved - t.pixel;
+      t.pixel = moved;
       flow_to.push_back(t.pixel);
       ++t.age;
+      stats.predicted += from_prediction[i];
       kept.push_back(t);
     }
     tracks_.swap(kept);
@@ -196,7 +264,8 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
     }
     std::nth_element(dx.begin(), dx.begin() + std::ptrdiff_t(k / 2), dx.end());
     std::nth_element(dy.begin(), dy.begin() + std::ptrdiff_t(k / 2), dy.end());
-    d.track.pixel += Eigen::Vector2d(dx[k / 2], dy[k / 2]);
+    d.track.flow = Eigen::Vector2d(dx[k / 2], dy[k / 2]);
+    d.track.pixel += d.track.flow;
   }
   const cv::Size size = pyramid.front().size();
   const double b = options_.border_px;

@@ -32,6 +32,12 @@ struct FeatureTrackerOptions {
   int klt_window_px = 21;
   int klt_pyramid_levels = 3;
   int klt_max_iterations = 30;
+  // Levels of the pyramid above full resolution searched from each
+  // track's predicted position (its last displacement carried on); tracks
+  // lost from there are tracked again over all klt_pyramid_levels. A
+  // negative value, or one not below klt_pyramid_levels, tracks every
+  // feature over the full pyramid from its last position.
+  int klt_predicted_levels = 0;
   double forward_backward_px = 0.5;  // max |p - backtrack(track(p))|
   double border_px = 8.0;            // tracks closer to the border are dropped
   // Minimum corner response in absolute terms (Harris on 8-bit images), so
@@ -59,6 +65,7 @@ struct FeatureTrack {
   int age = 0;            // frames tracked
   bool anchored = false;  // seen in the anchor image
   Eigen::Vector2d anchor_pixel = Eigen::Vector2d::Zero();
+  Eigen::Vector2d flow = Eigen::Vector2d::Zero();  // displacement over the last frame
 };
 
 struct TrackingStats {
@@ -68,6 +75,7 @@ struct TrackingStats {
   int lost_mask = 0;    // landed on masked pixels
   int detected = 0;     // new features
   int reacquired = 0;   // dormant tracks taken up again under their old id
+  int predicted = 0;    // of those tracked, found from their predicted positions
 };
 
 class FeatureTracker {
@@ -110,6 +118,15 @@ class FeatureTracker {
   // from the anchor image, for the tracks seen there.
   void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
                         const cv::TermCriteria& criteria, std::vector<cv::Point2f>* current);
+  // Tracks every feature from the previous image into `pyramid` (forward)
+  // and back (at full resolution, from the previous position) for the
+  // forward-backward check; `previous` receives the start positions.
+  // `from_prediction` flags those found from their predicted positions.
+  void TrackForwardBackward(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
+                            const cv::TermCriteria& criteria, std::vector<cv::Point2f>* previous,
+                            std::vector<cv::Point2f>* current, std::vector<cv::Point2f>* back,
+                            std::vector<uint8_t>* status, std::vector<uint8_t>* status_back,
+                            std::vector<uint8_t>* from_prediction) const;
   void KeepDormant(const FeatureTrack& track);
   // Moves the dormant tracks with the flow of the live ones (`previous` ->
   // tracks_ positions), ages them and takes up those found again.
