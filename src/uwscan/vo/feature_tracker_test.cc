@@ -56,6 +56,57 @@ TEST_F(FeatureTrackerTest, TracksRenderedMotionWithKnownFlow) {
   EXPECT_LT(errors[errors.size() * 95 / 100], 0.3);  // 95th percentile
 }
 
+// Smooth motion is followed from each track's predicted position at full
+// resolution only; a sudden jump is caught by the full pyramid, as well as
+// the full pyramid alone would catch it.
+TEST_F(FeatureTrackerTest, PredictedTrackingFollowsSmoothMotionAndFallsBackOnAJump) {
+  auto x_at = [](int frame) { return frame <= 6 ? 0.006 * frame : 0.036 + 0.05 * (frame - 6); };
+  auto pose = [&](int frame) { return testing::DownwardPose({x_at(frame), 0.0, 2.0}, 0.0, 0.01); };
+  struct Run {
+    std::vector<int> tracked, predicted;
+    std::vector<double> jump_errors;  // frame 7 against the truth
+  };
+  auto run = [&](int predicted_levels) {
+    FeatureTrackerOptions options;
+    options.klt_predicted_levels = predicted_levels;
+    options.anchor_refinement = false;
+    FeatureTracker tracker(options);
+    tracker.Track(renderer_.Render(pose(0)), cv::Mat());
+    tracker.Detect(cv::Mat());
+    Run r;
+    for (int frame = 1; frame <= 7; ++frame) {
+      const std::vector<FeatureTrack> before = tracker.tracks();
+      const TrackingStats stats = tracker.Track(renderer_.Render(pose(frame)), cv::Mat());
+      r.tracked.push_back(stats.tracked);
+      r.predicted.push_back(stats.predicted);
+      if (frame < 7) continue;
+      for (const FeatureTrack& t : tracker.tracks()) {
+        const auto it = std::find_if(before.begin(), before.end(),
+                                     [&](const FeatureTrack& b) { return b.id == t.id; });
+        const auto point = renderer_.PointAt(pose(frame - 1), it->pixel);
+        const auto expected = camera_.Project(pose(frame).Inverse() * *point);
+        if (point && expected) r.jump_errors.push_back((*expected - t.pixel).norm());
+      }
+    }
+    std::sort(r.jump_errors.begin(), r.jump_errors.end());
+    return r;
+  };
+  const Run full = run(-1), predicted = run(0);
+  ASSERT_FALSE(predicted.jump_errors.empty());
+  for (int frame = 2; frame <= 6; ++frame) {  // constant velocity from frame 2 on
+    EXPECT_EQ(full.predicted[frame - 1], 0);
+    EXPECT_GE(predicted.predicted[frame - 1], predicted.tracked[frame - 1] * 95 / 100)
+        << "frame " << frame;
+    EXPECT_GE(predicted.tracked[frame - 1], full.tracked[frame - 1] * 98 / 100);
+  }
+  // The jump (~7.5 px after steps of ~0.9 px) is beyond the 5 px the
+  // prediction may be off by.
+  EXPECT_LT(predicted.predicted[6], predicted.tracked[6] / 10);
+  EXPECT_GE(predicted.tracked[6], full.tracked[6] * 95 / 100);
+  EXPECT_LT(predicted.jump_errors[predicted.jump_errors.size() / 2], 0.1);
+  EXPECT_LT(predicted.jump_errors[predicted.jump_errors.size() * 95 / 100], 0.3);
+}
+
 TEST_F(FeatureTrackerTest, HonoursTheMask) {
   testing::RenderOptions render;
   render.laser_column_px = 120;

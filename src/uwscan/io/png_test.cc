@@ -1,0 +1,251 @@
+#include "uwscan/io/png.h"
+
+#include <gtest/gtest.h>
+#include <libdeflate.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <algorithm>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+
+#include "uwscan/io/image.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+namespace fs = std::filesystem;
+
+void Put32(std::vector<uint8_t>* out, uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) out->push_back(uint8_t(v >> shift));
+}
+
+void PutChunk(std::vector<uint8_t>* out, const std::string& type, const std::vector<uint8_t>& data) {
+  Put32(out, uint32_t(data.size()));
+  std::vector<uint8_t> body(type.begin(), type.end());
+  body.insert(body.end(), data.begin(), data.end());
+  out->insert(out->end(), body.begin(), body.end());
+  Put32(out, libdeflate_crc32(0, body.data(), body.size()));
+}
+
+// The bytes of one image row as PNG stores them: R G B order, big-endian.
+std::vector<uint8_t> RowBytes(const cv::Mat& image, int y) {
+  std::vector<uint8_t> row;
+  const int channels = image.channels();
+  for (int x = 0; x < image.cols; ++x) {
+    for (int c = 0; c < channels; ++c) {
+      const int k = channels == 3 ? 2 - c : c;
+      if (image.depth() == CV_8U) {
+        row.push_back(image.ptr<uint8_t>(y)[x * channels + k]);
+      } else {
+        const uint16_t v = image.ptr<uint16_t>(y)[x * channels + k];
+        row.push_back(uint8_t(v >> 8));
+        row.push_back(uint8_t(v & 0xff));
+      }
+    }
+  }
+  return row;
+}
+
+int PaethPredictor(int a, int b, int c) {
+  const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+  return pa <= pb && pa <= pc ? a : (pb <= pc ? b : c);
+}
+
+// An independent PNG writer: every row filtered with `filter` (0-4, or -1
+// to cycle through all five), the stream split into IDAT chunks of 1000 bytes.
+std::vector<uint8_t> EncodePng(const cv::Mat& image, int filter) {
+  const size_t bpp = image.elemSize();
+  std::vector<uint8_t> raw, prior(image.cols * bpp, 0);
+  for (int y = 0; y < image.rows; ++y) {
+    const std::vector<uint8_t> row = RowBytes(image, y);
+    const int type = filter >= 0 ? filter : y % 5;
+    raw.push_back(uint8_t(type));
+    for (size_t i = 0; i < row.size(); ++i) {
+      const int a = i >= bpp ? row[i - bpp] : 0, b = prior[i], c = i >= bpp ? prior[i - bpp] : 0;
+      const int predictor = type == 0   ? 0
+                            : type == 1 ? a
+                            : type == 2 ? b
+                            : type == 3 ? (a + b) / 2
+                                        : PaethPredictor(a, b, c);
+      raw.push_back(uint8_t(row[i] - predictor));
+    }
+    prior = row;
+  }
+  libdeflate_compressor* compressor = libdeflate_alloc_compressor(6);
+  std::vector<uint8_t> stream(libdeflate_zlib_compress_bound(compressor, raw.size()));
+  stream.resize(
+      libdeflate_zlib_compress(compressor, raw.data(), raw.size(), stream.data(), stream.size()));
+  libdeflate_free_compressor(compressor);
+
+  std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::vector<uint8_t> header;
+  Put32(&header, uint32_t(image.cols));
+  Put32(&header, uint32_t(image.rows));
+  header.push_back(image.depth() == CV_16U ? 16 : 8);
+  header.push_back(image.channels() == 3 ? 2 : 0);
+  header.insert(header.end(), {0, 0, 0});
+  PutChunk(&png, "IHDR", header);
+  PutChunk(&png, "tEXt", {'a', 0, 'b'});  // ancillary: skipped
+  for (size_t at = 0; at < stream.size(); at += 1000) {
+    const size_t end = std::min(stream.size(), at + 1000);
+    PutChunk(&png, "IDAT", std::vector<uint8_t>(stream.begin() + at, stream.begin() + end));
+  }
+  PutChunk(&png, "IEND", {});
+  return png;
+}
+
+cv::Mat RandomImage(int type, uint32_t seed) {
+  cv::Mat image(37, 53, type);
+  cv::RNG rng(seed);
+  rng.fill(image, cv::RNG::UNIFORM, 0, image.depth() == CV_16U ? 65536 : 256);
+  // and some smooth rows, as in real images
+  for (int x = 0; x < image.cols * image.channels(); ++x) {
+    if (image.depth() == CV_8U) image.ptr<uint8_t>(5)[x] = uint8_t(x);
+    else image.ptr<uint16_t>(5)[x] = uint16_t(x * 1000);
+  }
+  return image;
+}
+
+bool Equal(const cv::Mat& a, const cv::Mat& b) {
+  return a.type() == b.type() && a.size() == b.size() && cv::norm(a, b, cv::NORM_INF) == 0;
+}
+
+TEST(Png, EveryFilterDepthAndColourDecodesAsWrittenAndAsOpenCVReadsIt) {
+  uint32_t seed = 1;
+  for (int type : {CV_8UC1, CV_16UC1, CV_8UC3, CV_16UC3}) {
+    for (int filter = -1; filter <= 4; ++filter) {
+      SCOPED_TRACE(testing::Message() << "type " << type << " filter " << filter);
+      const cv::Mat image = RandomImage(type, seed++);
+      const std::vector<uint8_t> png = EncodePng(image, filter);
+      const std::optional<cv::Mat> decoded = DecodePng(png, "test.png");
+      ASSERT_TRUE(decoded.has_value());
+      EXPECT_TRUE(Equal(*decoded, image));
+      EXPECT_TRUE(Equal(cv::imdecode(png, cv::IMREAD_UNCHANGED), image));  // libpng agrees
+    }
+  }
+}
+
+TEST(Png, OpenCVsOwnPngsDecodeUnchanged) {
+  for (int type : {CV_8UC1, CV_16UC1, CV_8UC3, CV_16UC3}) {
+    for (int level : {0, 3, 9}) {
+      const cv::Mat image = RandomImage(type, uint32_t(100 + type + level));
+      std::vector<uint8_t> png;
+      ASSERT_TRUE(cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, level}));
+      const std::optional<cv::Mat> decoded = DecodePng(png, "cv.png");
+      ASSERT_TRUE(decoded.has_value());
+      EXPECT_TRUE(Equal(*decoded, image)) << "type " << type << " level " << level;
+    }
+  }
+}
+
+void ExpectError(const std::vector<uint8_t>& png, const std::string& fragment) {
+  try {
+    DecodePng(png, "bad.png");
+    ADD_FAILURE() << "no error, expected one with '" << fragment << "'";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad.png"), std::string::npos) << what;
+    EXPECT_NE(what.find(fragment), std::string::npos) << what;
+  }
+}
+
+TEST(Png, DamagedFilesGiveErrorsNamingTheFileAndTheProblem) {
+  const std::vector<uint8_t> good = EncodePng(RandomImage(CV_8UC1, 7), 4);
+  ExpectError(std::vector<uint8_t>(good.begin(), good.begin() + good.size() / 2), "truncated");
+  ExpectError(std::vector<uint8_t>(good.begin(), good.end() - 12), "no IEND");
+
+  std::vector<uint8_t> flipped = good;
+  const std::string idat = "IDAT";
+  const auto chunk = std::search(good.begin(), good.end(), idat.begin(), idat.end());
+  ASSERT_NE(chunk, good.end());
+  flipped[size_t(chunk - good.begin()) + 4 + 10] ^= 0x10;  // a byte of the chunk's data
+  ExpectError(flipped, "CRC mismatch in chunk IDAT");
+
+  // A consistent file whose header promises more rows than the data holds.
+  cv::Mat image = RandomImage(CV_8UC1, 8);
+  std::vector<uint8_t> taller = EncodePng(image, 0);
+  taller[8 + 8 + 7] += 1;  // height's low byte
+  const uint32_t crc = libdeflate_crc32(0, taller.data() + 12, 17);
+  for (int i = 0; i < 4; ++i) taller[8 + 8 + 13 + i] = uint8_t(crc >> (24 - 8 * i));
+  ExpectError(taller, "too little image data");
+
+  // Bad filter type byte on the first row (data recompressed, CRCs right).
+  cv::Mat one(4, 4, CV_8UC1, cv::Scalar(9));
+  const std::vector<uint8_t> reference = EncodePng(one, 0);
+  std::vector<uint8_t> raw;
+  for (int y = 0; y < 4; ++y) {
+    raw.push_back(7);                      // the filter type byte
+    for (int x = 0; x < 4; ++x) raw.push_back(9);
+  }
+  libdeflate_compressor* compressor = libdeflate_alloc_compressor(1);
+  std::vector<uint8_t> stream(libdeflate_zlib_compress_bound(compressor, raw.size()));
+  stream.resize(
+      libdeflate_zlib_compress(compressor, raw.data(), raw.size(), stream.data(), stream.size()));
+  libdeflate_free_compressor(compressor);
+  std::vector<uint8_t> png(reference.begin(), reference.begin() + 8 + 25);  // signature, IHDR
+  PutChunk(&png, "IDAT", stream);
+  PutChunk(&png, "IEND", {});
+  ExpectError(png, "unknown filter type 7");
+
+  ExpectError({'G', 'I', 'F', '8'}, "not a PNG");
+}
+
+class ReadImageTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("uwscan_png_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path Write(const std::string& name, const std::vector<uint8_t>& bytes) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    return path;
+  }
+  fs::path dir_;
+};
+
+TEST_F(ReadImageTest, OtherKindsOfImageAreLeftToOpenCV) {
+  // BGRA (alpha) PNG, and a JPEG: read by OpenCV as before.
+  cv::Mat bgra(20, 30, CV_8UC4, cv::Scalar(10, 20, 30, 40));
+  std::vector<uint8_t> png;
+  ASSERT_TRUE(cv::imencode(".png", bgra, png));
+  EXPECT_FALSE(DecodePng(png, "alpha.png").has_value());
+  EXPECT_TRUE(Equal(ReadImage(Write("alpha.png", png)), bgra));
+
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", cv::Mat(16, 16, CV_8UC1, cv::Scalar(128)), jpeg));
+  const cv::Mat read = ReadImage(Write("grey.jpg", jpeg));
+  EXPECT_EQ(read.type(), CV_8UC1);
+  EXPECT_EQ(read.size(), cv::Size(16, 16));
+}
+
+TEST_F(ReadImageTest, WritePngAndReadImageRoundTrip) {
+  for (int type : {CV_8UC1, CV_16UC1, CV_8UC3, CV_16UC3}) {
+    const cv::Mat image = RandomImage(type, uint32_t(200 + type));
+    const fs::path path = dir_ / ("round" + std::to_string(type) + ".png");
+    WritePng(path, image);
+    EXPECT_TRUE(Equal(ReadImage(path), image)) << "type " << type;
+  }
+}
+
+TEST_F(ReadImageTest, UnreadableFilesAreNamed) {
+  for (const auto& [name, bytes] : std::vector<std::pair<std::string, std::vector<uint8_t>>>{
+           {"empty.png", {}}, {"text.png", {'h', 'e', 'l', 'l', 'o'}}}) {
+    const fs::path path = Write(name, bytes);
+    try {
+      ReadImage(path);
+      ADD_FAILURE() << name << ": no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(ReadImage(dir_ / "missing.png"), Error);
+}
+
+}  // namespace
+}  // namespace uwscan
