@@ -101,6 +101,23 @@ expect_status 2 "reconstruct --passes 2 --poses" "$uwscan" reconstruct --dataset
 grep -q "passes 2 and --poses exclude each other" "$work/err" || fail "--passes 2 --poses: unclear error"
 [ ! -e "$work/pods.passes2" ] || fail "--passes 2 --poses created its output folder"
 
+# A damaged frame or one of the wrong size stops reconstruct with the file
+# named (the line is found on the image-reading thread for servo sweeps:
+# its errors must come through), and no output is left under its name.
+cp -r "$work/pods" "$work/broken"
+head -c 2000 "$work/pods/frames/000001.png" > "$work/broken/frames/000001.png"
+expect_status 1 "reconstruct, truncated frame" "$uwscan" reconstruct --dataset "$work/broken" \
+  --out "$work/broken.out" --quiet
+grep -q "frames/000001.png: truncated PNG" "$work/err" || fail "truncated frame: unclear error"
+[ ! -e "$work/broken.out/cloud.ply" ] || fail "truncated frame: cloud.ply left behind"
+"$uwscan" simulate tank-target --out "$work/small" --frames 1 --width 80 --height 60 --quiet ||
+  fail "small dataset"
+cp "$work/small/frames/000000.png" "$work/broken/frames/000001.png"
+expect_status 1 "reconstruct, frame of the wrong size" "$uwscan" reconstruct \
+  --dataset "$work/broken" --out "$work/broken.out2" --quiet
+grep -q "frames/000001.png: image is 80x60 but camera" "$work/err" || fail "wrong size: unclear error"
+[ ! -e "$work/broken.out2/cloud.ply" ] || fail "wrong size: cloud.ply left behind"
+
 # Usage errors: exit 2.
 expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"
 expect_status 2 "zero frames" "$uwscan" simulate tank-target --out "$work/e2" --frames 0

@@ -30,6 +30,10 @@ class LineStage {
 
   // The pose of a frame, once known (the motion filter predicts from them).
   void SetPose(int frame, const Rigid3d& world_from_camera);
+  // True if Process needs the poses of the frames before (the motion
+  // filter); otherwise frames may be processed ahead of their poses, on
+  // another thread, one at a time and in order.
+  bool NeedsPoses() const { return motion_filter_.has_value(); }
 
   const laser::DetectorOptions& detector() const { return detector_; }
   int ScanLines() const { return detector_.scan_rows ? camera_.height : camera_.width; }

@@ -41,25 +41,46 @@ std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
 // Reads frame i + 1 on a second thread while frame i is processed (a live
 // camera delivers decoded frames; PNG decoding of a dataset would otherwise
 // take a third of the time).
+// A frame as read, with its laser line when the reading thread found it.
+struct ReadFrame {
+  cv::Mat image;
+  laser::Detection detection;
+  laser::Profile profile;
+  bool line_done = false;
+};
+
+// Reads (and decodes) the next frame on a second thread while the current
+// one is processed. When the line stage needs no poses (servo sweeps,
+// fixed lasers without the motion filter), it runs there too, one frame
+// ahead of the pose estimation: the two then share the machine's cores.
 class FrameReader {
  public:
-  FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames)
-      : dataset_(std::move(dataset)), frames_(frames) {
+  FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames, LineStage* line_stage)
+      : dataset_(std::move(dataset)), frames_(frames), line_stage_(line_stage) {
     if (!frames_.empty()) next_ = std::async(std::launch::async, [this] { return Read(0); });
   }
-  cv::Mat Get(size_t i) {
-    cv::Mat image = next_.get();  // rethrows a read error
+  ReadFrame Get(size_t i) {
+    ReadFrame frame = next_.get();  // rethrows a read error
     if (i + 1 < frames_.size()) {
       next_ = std::async(std::launch::async, [this, i] { return Read(i + 1); });
     }
-    return image;
+    return frame;
   }
 
  private:
-  cv::Mat Read(size_t i) const { return ReadImage(dataset_ / frames_[i].file); }
+  ReadFrame Read(size_t i) const {
+    ReadFrame frame;
+    frame.image = ReadImage(dataset_ / frames_[i].file);
+    if (line_stage_) {
+      line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
+      frame.line_done = true;
+    }
+    return frame;
+  }
   fs::path dataset_;
   const std::vector<FrameRecord>& frames_;
-  std::future<cv::Mat> next_;
+  LineStage* line_stage_;  // null: the line is found on the caller's thread
+  std::future<ReadFrame> next_;
 };
 
 // The further cameras of a several-camera dataset (sim --pods 2): camera
@@ -238,16 +259,16 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
-  FrameReader reader(job.dataset, frames);
+  FrameReader reader(job.dataset, frames, line_stage.NeedsPoses() ? nullptr : &line_stage);
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     auto t = std::chrono::steady_clock::now();
-    const cv::Mat image = reader.Get(i);
+    ReadFrame frame = reader.Get(i);
     report.seconds_io += Seconds(t);
-
-    laser::Detection detection;
-    laser::Profile profile;
-    line_stage.Process(i, image, &detection, &profile);
+    const cv::Mat& image = frame.image;
+    laser::Detection& detection = frame.detection;
+    laser::Profile& profile = frame.profile;
+    if (!frame.line_done) line_stage.Process(i, image, &detection, &profile);
 
     t = std::chrono::steady_clock::now();
     fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
@@ -292,15 +313,16 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
                           other.rig.CameraFromLaser(0, 0), other_frames, &report);
     TumWriter other_trajectory(job.out / ("trajectory_" + other_camera.name + ".tum"));
     CameraReport camera_report{other_camera.name, other.rig.lasers.front().name};
-    FrameReader other_reader(other.folder, other_frames);
+    FrameReader other_reader(other.folder, other_frames,
+                             other_stage.NeedsPoses() ? nullptr : &other_stage);
     for (size_t i = 0; i < other_frames.size(); ++i) {
       const FrameRecord& record = other_frames[i];
       auto t = std::chrono::steady_clock::now();
-      const cv::Mat image = other_reader.Get(i);
+      ReadFrame frame = other_reader.Get(i);
       report.seconds_io += Seconds(t);
-      laser::Detection detection;
-      laser::Profile profile;
-      other_stage.Process(i, image, &detection, &profile);
+      const laser::Detection& detection = frame.detection;
+      const laser::Profile& profile = frame.profile;
+      if (!frame.line_done) other_stage.Process(i, frame.image, &frame.detection, &frame.profile);
       ++camera_report.frames;
       if (!detection.points.empty()) ++camera_report.frames_with_line;
       const auto main_pose =
