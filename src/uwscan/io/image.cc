@@ -27,7 +27,7 @@ void WritePng(const std::filesystem::path& path, const cv::Mat& image, int compr
 }
 
 cv::Mat ReadImage(const std::filesystem::path& path) {
-  std::vector<uint8_t> bytes;
+  thread_local std::vector<uint8_t> bytes;  // reused: frames are read one after another
   {
     std::ifstream file(path, std::ios::binary | std::ios::ate);
     UWS_CHECK(file.good(), path.string(), ": cannot read image (cannot open the file)");

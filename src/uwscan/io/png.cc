@@ -80,7 +80,11 @@ std::optional<cv::Mat> DecodePng(const std::vector<uint8_t>& bytes, const std::s
   UWS_CHECK(HasPngSignature(bytes), name, ": not a PNG file");
   Header header;
   bool have_header = false, have_end = false;
-  std::vector<uint8_t> stream;  // the IDAT chunks' data, concatenated
+  // The IDAT chunks' data, concatenated, and the inflated rows: buffers
+  // kept per thread, so that a sequence of frames does not map and fault
+  // in fresh megabytes for each.
+  thread_local std::vector<uint8_t> stream, raw;
+  stream.clear();
   size_t at = sizeof(kSignature);
   while (!have_end) {
     UWS_CHECK(bytes.size() - at >= 12, name, ": truncated PNG (no IEND chunk)");
@@ -126,7 +130,7 @@ std::optional<cv::Mat> DecodePng(const std::vector<uint8_t>& bytes, const std::s
   const size_t sample_bytes = size_t(header.bit_depth / 8);
   const size_t bpp = size_t(channels) * sample_bytes;
   const size_t row_bytes = size_t(header.width) * bpp;
-  std::vector<uint8_t> raw(size_t(header.height) * (row_bytes + 1));
+  raw.resize(size_t(header.height) * (row_bytes + 1));
   const libdeflate_result result = libdeflate_zlib_decompress(
       ThreadDecompressor(), stream.data(), stream.size(), raw.data(), raw.size(), nullptr);
   UWS_CHECK(result == LIBDEFLATE_SUCCESS, name, ": damaged PNG (",

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <future>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <map>
 
 #include "uwscan/fusion/self_referenced.h"
@@ -53,21 +56,64 @@ struct ReadFrame {
 // one is processed. When the line stage needs no poses (servo sweeps,
 // fixed lasers without the motion filter), it runs there too, one frame
 // ahead of the pose estimation: the two then share the machine's cores.
+// One thread for the whole sequence (its decoding buffers are reused).
 class FrameReader {
  public:
   FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames, LineStage* line_stage)
       : dataset_(std::move(dataset)), frames_(frames), line_stage_(line_stage) {
-    if (!frames_.empty()) next_ = std::async(std::launch::async, [this] { return Read(0); });
+    if (frames_.empty()) return;
+    requested_ = 0;
+    worker_ = std::thread([this] { Work(); });
   }
-  ReadFrame Get(size_t i) {
-    ReadFrame frame = next_.get();  // rethrows a read error
-    if (i + 1 < frames_.size()) {
-      next_ = std::async(std::launch::async, [this, i] { return Read(i + 1); });
+  ~FrameReader() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
     }
+    changed_.notify_all();
+    if (worker_.joinable()) worker_.join();
+  }
+  // Frame i; the calls must ask for 0, 1, 2, ... in turn.
+  ReadFrame Get(size_t i) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return done_; });
+    UWS_CHECK(done_index_ == i, "frame reader: frame ", i, " asked for out of turn");
+    done_ = false;
+    ReadFrame frame = std::move(result_);
+    const std::exception_ptr error = error_;
+    error_ = nullptr;
+    if (!error && i + 1 < frames_.size()) requested_ = i + 1;  // read on while this one is used
+    lock.unlock();
+    changed_.notify_all();
+    if (error) std::rethrow_exception(error);  // a read error, named
     return frame;
   }
 
  private:
+  static constexpr size_t kNone = size_t(-1);
+  void Work() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (true) {
+      changed_.wait(lock, [this] { return stop_ || requested_ != kNone; });
+      if (stop_) return;
+      const size_t i = requested_;
+      requested_ = kNone;
+      lock.unlock();
+      ReadFrame frame;
+      std::exception_ptr error;
+      try {
+        frame = Read(i);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      result_ = std::move(frame);
+      error_ = error;
+      done_index_ = i;
+      done_ = true;
+      changed_.notify_all();
+    }
+  }
   ReadFrame Read(size_t i) const {
     ReadFrame frame;
     frame.image = ReadImage(dataset_ / frames_[i].file);
@@ -80,7 +126,15 @@ class FrameReader {
   fs::path dataset_;
   const std::vector<FrameRecord>& frames_;
   LineStage* line_stage_;  // null: the line is found on the caller's thread
-  std::future<ReadFrame> next_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  size_t requested_ = kNone;  // the frame the worker is to read next
+  bool done_ = false;         // result_ (or error_) holds frame done_index_
+  size_t done_index_ = kNone;
+  ReadFrame result_;
+  std::exception_ptr error_;
+  bool stop_ = false;
+  std::thread worker_;
 };
 
 // The further cameras of a several-camera dataset (sim --pods 2): camera
