@@ -4,9 +4,9 @@
 #include <chrono>
 #include <condition_variable>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <thread>
-#include <map>
 
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/dataset.h"
@@ -41,9 +41,6 @@ std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
   return frames;
 }
 
-// Reads frame i + 1 on a second thread while frame i is processed (a live
-// camera delivers decoded frames; PNG decoding of a dataset would otherwise
-// take a third of the time).
 // A frame as read, with its laser line when the reading thread found it.
 struct ReadFrame {
   cv::Mat image;
@@ -53,10 +50,12 @@ struct ReadFrame {
 };
 
 // Reads (and decodes) the next frame on a second thread while the current
-// one is processed. When the line stage needs no poses (servo sweeps,
-// fixed lasers without the motion filter), it runs there too, one frame
-// ahead of the pose estimation: the two then share the machine's cores.
-// One thread for the whole sequence (its decoding buffers are reused).
+// one is processed (a live camera delivers decoded frames; decoding a
+// dataset's PNGs would otherwise add to the time). When the line stage
+// needs no poses (servo sweeps, fixed lasers without the motion filter),
+// it runs there too, one frame ahead of the pose estimation: the two then
+// share the machine's cores. One thread for the whole sequence (its
+// decoding buffers are reused).
 class FrameReader {
  public:
   FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames, LineStage* line_stage)
