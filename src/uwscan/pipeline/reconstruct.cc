@@ -41,25 +41,29 @@ std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
   return frames;
 }
 
-// A frame as read, with its laser line when the reading thread found it.
+// A frame as read, with its laser line.
 struct ReadFrame {
   cv::Mat image;
   laser::Detection detection;
   laser::Profile profile;
-  bool line_done = false;
 };
 
 // Reads (and decodes) the next frame on a second thread while the current
 // one is processed (a live camera delivers decoded frames; decoding a
-// dataset's PNGs would otherwise add to the time). When the line stage
-// needs no poses (servo sweeps, fixed lasers without the motion filter),
-// it runs there too, one frame ahead of the pose estimation: the two then
-// share the machine's cores. One thread for the whole sequence (its
-// decoding buffers are reused).
+// dataset's PNGs would otherwise add to the time), and finds its laser
+// line with `line_stage`: there too, one frame ahead of the pose
+// estimation, when the stage needs no poses (servo sweeps, fixed lasers
+// without the motion filter), so that the two share the machine's cores;
+// otherwise on the caller's thread, once the frames before have their
+// poses. One thread for the whole sequence (its decoding buffers are
+// reused).
 class FrameReader {
  public:
   FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames, LineStage* line_stage)
-      : dataset_(std::move(dataset)), frames_(frames), line_stage_(line_stage) {
+      : dataset_(std::move(dataset)),
+        frames_(frames),
+        line_stage_(line_stage),
+        line_ahead_(!line_stage->NeedsPoses()) {
     if (frames_.empty()) return;
     requested_ = 0;
     worker_ = std::thread([this] { Work(); });
@@ -72,10 +76,12 @@ class FrameReader {
     changed_.notify_all();
     if (worker_.joinable()) worker_.join();
   }
-  // Frame i; the calls must ask for 0, 1, 2, ... in turn.
+  // Frame i with its line; the calls must ask for 0, 1, 2, ... in turn.
   ReadFrame Get(size_t i) {
+    const auto start = std::chrono::steady_clock::now();
     std::unique_lock<std::mutex> lock(mutex_);
     changed_.wait(lock, [this] { return done_; });
+    seconds_waiting_ += Seconds(start);
     UWS_CHECK(done_index_ == i, "frame reader: frame ", i, " asked for out of turn");
     done_ = false;
     ReadFrame frame = std::move(result_);
@@ -85,8 +91,11 @@ class FrameReader {
     lock.unlock();
     changed_.notify_all();
     if (error) std::rethrow_exception(error);  // a read error, named
+    if (!line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
     return frame;
   }
+  // Time Get spent waiting for the reading thread.
+  double seconds_waiting() const { return seconds_waiting_; }
 
  private:
   static constexpr size_t kNone = size_t(-1);
@@ -116,15 +125,14 @@ class FrameReader {
   ReadFrame Read(size_t i) const {
     ReadFrame frame;
     frame.image = ReadImage(dataset_ / frames_[i].file);
-    if (line_stage_) {
-      line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
-      frame.line_done = true;
-    }
+    if (line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
     return frame;
   }
   fs::path dataset_;
   const std::vector<FrameRecord>& frames_;
-  LineStage* line_stage_;  // null: the line is found on the caller's thread
+  LineStage* line_stage_;
+  const bool line_ahead_;  // found on the reading thread
+  double seconds_waiting_ = 0.0;  // caller's thread only
   std::mutex mutex_;
   std::condition_variable changed_;
   size_t requested_ = kNone;  // the frame the worker is to read next
@@ -312,18 +320,15 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
-  FrameReader reader(job.dataset, frames, line_stage.NeedsPoses() ? nullptr : &line_stage);
+  FrameReader reader(job.dataset, frames, &line_stage);
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
-    auto t = std::chrono::steady_clock::now();
     ReadFrame frame = reader.Get(i);
-    report.seconds_io += Seconds(t);
     const cv::Mat& image = frame.image;
     laser::Detection& detection = frame.detection;
     laser::Profile& profile = frame.profile;
-    if (!frame.line_done) line_stage.Process(i, image, &detection, &profile);
 
-    t = std::chrono::steady_clock::now();
+    auto t = std::chrono::steady_clock::now();
     fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
     const auto updates = provider->Add(input);
     for (const auto& raw : provider->Preliminary())
@@ -339,6 +344,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     progress.Update(++frames_done);
   }
   place(provider->Finish());
+  report.seconds_io += reader.seconds_waiting();
   if (self_referenced && measured) {
     measured->surface = placed_surface ? placed_surface : self_referenced->MeasuredSurface();
     measured->first_frame = self_referenced->FirstFrameWithPose();
@@ -366,16 +372,12 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
                           other.rig.CameraFromLaser(0, 0), other_frames, &report);
     TumWriter other_trajectory(job.out / ("trajectory_" + other_camera.name + ".tum"));
     CameraReport camera_report{other_camera.name, other.rig.lasers.front().name};
-    FrameReader other_reader(other.folder, other_frames,
-                             other_stage.NeedsPoses() ? nullptr : &other_stage);
+    FrameReader other_reader(other.folder, other_frames, &other_stage);
     for (size_t i = 0; i < other_frames.size(); ++i) {
       const FrameRecord& record = other_frames[i];
-      auto t = std::chrono::steady_clock::now();
-      ReadFrame frame = other_reader.Get(i);
-      report.seconds_io += Seconds(t);
+      const ReadFrame frame = other_reader.Get(i);
       const laser::Detection& detection = frame.detection;
       const laser::Profile& profile = frame.profile;
-      if (!frame.line_done) other_stage.Process(i, frame.image, &frame.detection, &frame.profile);
       ++camera_report.frames;
       if (!detection.points.empty()) ++camera_report.frames_with_line;
       const auto main_pose =
@@ -391,6 +393,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       }
       progress.Update(++frames_done);
     }
+    report.seconds_io += other_reader.seconds_waiting();
     other_trajectory.Commit();
     report.other_cameras.push_back(camera_report);
   }

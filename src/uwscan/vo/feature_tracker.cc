@@ -97,16 +97,14 @@ bool Inside(const cv::Point2f& p, const cv::Size& size, double border) {
 void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
                                           const cv::Size& window,
                                           const cv::TermCriteria& criteria,
-                                          std::vector<cv::Point2f>* previous,
                                           std::vector<cv::Point2f>* current,
-                                          std::vector<cv::Point2f>* back,
-                                          std::vector<uint8_t>* status,
-                                          std::vector<uint8_t>* status_back,
+                                          std::vector<uint8_t>* consistent,
                                           std::vector<uint8_t>* from_prediction) const {
   const size_t n = tracks_.size();
-  from_prediction->assign(n, 0);
-  previous->clear();
-  for (const auto& t : tracks_) previous->emplace_back(float(t.pixel.x()), float(t.pixel.y()));
+  std::vector<cv::Point2f> previous, back;
+  previous.reserve(n);
+  for (const auto& t : tracks_) previous.emplace_back(float(t.pixel.x()), float(t.pixel.y()));
+  std::vector<uint8_t> status, status_back;
   std::vector<float> error;
   // The backward pass starts where a consistent track must end (the
   // previous position), so full resolution suffices: a track that does
@@ -117,54 +115,59 @@ void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
     cv::calcOpticalFlowPyrLK(pyramid, *previous_pyramid_, from, *to, *ok, error, window, 0,
                              criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
   };
-  auto consistent = [&](size_t i) {
+  auto check = [&](size_t i) {
     const cv::Point2f& p = (*current)[i];
-    return (*status)[i] && (*status_back)[i] && std::isfinite(p.x) && std::isfinite(p.y) &&
-           cv::norm((*back)[i] - (*previous)[i]) <= options_.forward_backward_px;
+    return status[i] && status_back[i] && std::isfinite(p.x) && std::isfinite(p.y) &&
+           cv::norm(back[i] - previous[i]) <= options_.forward_backward_px;
   };
+  from_prediction->assign(n, 0);
   const int full = options_.klt_pyramid_levels;
   const int predicted_levels = options_.klt_predicted_levels;
   if (predicted_levels < 0 || predicted_levels >= full) {
-    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, *previous, *current, *status, error,
+    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error,
                              window, full, criteria);
-    backward(*current, *previous, back, status_back);
-    return;
+    backward(*current, previous, &back, &status_back);
+  } else {
+    // Each track starts where its last displacement predicts it (a smooth
+    // motion, as of a hovering platform at a high frame rate), so the top
+    // of the pyramid is not needed; the tracks that fail from there, or end
+    // farther from the prediction than the lower levels reach, are tracked
+    // again from scratch over the full pyramid.
+    std::vector<cv::Point2f> predicted(n);
+    for (size_t i = 0; i < n; ++i) {
+      const FeatureTrack& t = tracks_[i];
+      predicted[i] =
+          cv::Point2f(float(t.pixel.x() + t.flow.x()), float(t.pixel.y() + t.flow.y()));
+    }
+    *current = predicted;
+    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error,
+                             window, predicted_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    backward(*current, previous, &back, &status_back);
+    const double reach = double(1 << predicted_levels) * options_.klt_window_px / 4.0;
+    std::vector<size_t> retry;
+    for (size_t i = 0; i < n; ++i) {
+      if (!check(i) || cv::norm((*current)[i] - predicted[i]) > reach) retry.push_back(i);
+    }
+    from_prediction->assign(n, 1);
+    for (size_t i : retry) (*from_prediction)[i] = 0;
+    if (!retry.empty()) {
+      std::vector<cv::Point2f> from, to, to_back;
+      std::vector<uint8_t> ok, ok_back;
+      for (size_t i : retry) from.push_back(previous[i]);
+      cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, from, to, ok, error, window, full,
+                               criteria);
+      backward(to, from, &to_back, &ok_back);
+      for (size_t k = 0; k < retry.size(); ++k) {
+        const size_t i = retry[k];
+        (*current)[i] = to[k];
+        back[i] = to_back[k];
+        status[i] = ok[k];
+        status_back[i] = ok_back[k];
+      }
+    }
   }
-  // Each track starts where its last displacement predicts it (a smooth
-  // motion, as of a hovering platform at a high frame rate), so the top of
-  // the pyramid is not needed; the tracks that fail from there, or end
-  // farther from the prediction than the lower levels reach, are tracked
-  // again from scratch over the full pyramid.
-  std::vector<cv::Point2f> predicted(n);
-  for (size_t i = 0; i < n; ++i) {
-    const FeatureTrack& t = tracks_[i];
-    predicted[i] = cv::Point2f(float(t.pixel.x() + t.flow.x()), float(t.pixel.y() + t.flow.y()));
-  }
-  *current = predicted;
-  cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, *previous, *current, *status, error,
-                           window, predicted_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-  backward(*current, *previous, back, status_back);
-  const double reach = double(1 << predicted_levels) * options_.klt_window_px / 4.0;
-  std::vector<size_t> retry;
-  for (size_t i = 0; i < n; ++i) {
-    if (!consistent(i) || cv::norm((*current)[i] - predicted[i]) > reach) retry.push_back(i);
-  }
-  from_prediction->assign(n, 1);
-  for (size_t i : retry) (*from_prediction)[i] = 0;
-  if (retry.empty()) return;
-  std::vector<cv::Point2f> from, to, to_back;
-  std::vector<uint8_t> ok, ok_back;
-  for (size_t i : retry) from.push_back((*previous)[i]);
-  cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, from, to, ok, error, window, full,
-                           criteria);
-  backward(to, from, &to_back, &ok_back);
-  for (size_t k = 0; k < retry.size(); ++k) {
-    const size_t i = retry[k];
-    (*current)[i] = to[k];
-    (*back)[i] = to_back[k];
-    (*status)[i] = ok[k];
-    (*status_back)[i] = ok_back[k];
-  }
+  consistent->resize(n);
+  for (size_t i = 0; i < n; ++i) (*consistent)[i] = check(i);
 }
 
 TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
@@ -178,12 +181,11 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
   const Pyramid pyramid = built;
   if (!previous_gray_.empty() && previous_gray_.size() != gray.size()) Reset();
   if (previous_pyramid_ && !tracks_.empty()) {
-    std::vector<cv::Point2f> previous, current, back;
-    std::vector<uint8_t> status, status_back, from_prediction;
+    std::vector<cv::Point2f> current;
+    std::vector<uint8_t> consistent, from_prediction;
     const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                                     options_.klt_max_iterations, 0.01);
-    TrackForwardBackward(*pyramid, window, criteria, &previous, &current, &back, &status,
-                         &status_back, &from_prediction);
+    TrackForwardBackward(*pyramid, window, criteria, &current, &consistent, &from_prediction);
     if (options_.anchor_refinement && anchor_pyramid_) {
       RefineFromAnchor(*pyramid, window, criteria, &current);
     }
@@ -192,9 +194,10 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
     kept.reserve(tracks_.size());
     const bool keep_dormant = options_.max_dormant_frames > 0;
     for (size_t i = 0; i < tracks_.size(); ++i) {
+      // (The anchor refinement keeps a finite position finite and moves
+      // no other: the check made before it still holds.)
       const cv::Point2f& p = current[i];
-      if (!status[i] || !status_back[i] || !std::isfinite(p.x) || !std::isfinite(p.y) ||
-          cv::norm(back[i] - previous[i]) > options_.forward_backward_px) {
+      if (!consistent[i]) {
         ++stats.lost_klt;
         // Lost as the line entered its window: may come back once it has passed.
         if (keep_dormant && MaskedNear(mask, tracks_[i].pixel, options_.klt_window_px / 2 + 2)) {

@@ -119,13 +119,13 @@ class FeatureTracker {
   void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
                         const cv::TermCriteria& criteria, std::vector<cv::Point2f>* current);
   // Tracks every feature from the previous image into `pyramid` (forward)
-  // and back (at full resolution, from the previous position) for the
-  // forward-backward check; `previous` receives the start positions.
-  // `from_prediction` flags those found from their predicted positions.
+  // and back (at full resolution, from the previous position): `current`
+  // receives the positions, `consistent` flags those that KLT found and
+  // that came back to within forward_backward_px, `from_prediction` those
+  // found from their predicted positions.
   void TrackForwardBackward(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
-                            const cv::TermCriteria& criteria, std::vector<cv::Point2f>* previous,
-                            std::vector<cv::Point2f>* current, std::vector<cv::Point2f>* back,
-                            std::vector<uint8_t>* status, std::vector<uint8_t>* status_back,
+                            const cv::TermCriteria& criteria, std::vector<cv::Point2f>* current,
+                            std::vector<uint8_t>* consistent,
                             std::vector<uint8_t>* from_prediction) const;
   void KeepDormant(const FeatureTrack& track);
   // Moves the dormant tracks with the flow of the live ones (`previous` ->
