@@ -28,8 +28,8 @@ SurfaceModel::SurfaceModel(const Camera& camera, const Rigid3d& world_from_refer
   options_.Check();
   cols_ = (camera_.width + options_.cell_px - 1) / options_.cell_px;
   rows_ = (camera_.height + options_.cell_px - 1) / options_.cell_px;
-  cells_.resize(static_cast<size_t>(cols_) * rows_);
-  insert_counts_.assign(cells_.size(), 0);
+  cells_.bins.resize(static_cast<size_t>(cols_) * rows_);
+  cells_.insert_counts.assign(cells_.bins.size(), 0);
 }
 
 std::optional<Eigen::Vector2i> SurfaceModel::CellOf(const Eigen::Vector3d& point_world) const {
@@ -70,21 +70,33 @@ void SurfaceModel::AddProfile(const Rigid3d& world_from_camera, const laser::Pro
       }
     }
     plane_dirty_ = true;
+    unbinned_.push_back(world);
+  }
+  if (unbinned_.size() >= kMaxUnbinned) Binned();
+}
+
+const SurfaceModel::Cells& SurfaceModel::Binned() const {
+  for (const Eigen::Vector3d& world : unbinned_) {
     const auto cell = CellOf(world);
     if (!cell) continue;
     const size_t index = static_cast<size_t>(cell->y()) * cols_ + cell->x();
-    auto& bucket = cells_[index];
+    auto& bucket = cells_.bins[index];
     // Full cells replace their points round robin: newest measurements win,
     // memory stays bounded.
     if (static_cast<int>(bucket.size()) < options_.max_points_per_cell) {
       bucket.push_back(world);
-      ++points_;
-      depth_sum_ += (reference_from_world_ * world).z();
+      ++cells_.points;
+      cells_.depth_sum += (reference_from_world_ * world).z();
     } else {
-      bucket[insert_counts_[index] % options_.max_points_per_cell] = world;
+      bucket[cells_.insert_counts[index] % options_.max_points_per_cell] = world;
     }
-    ++insert_counts_[index];
+    ++cells_.insert_counts[index];
   }
+  if (unbinned_.capacity() > 65536)
+    unbinned_ = {};  // after a start-up's hundred profiles, back to one frame's
+  else
+    unbinned_.clear();
+  return cells_;
 }
 
 std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::FitCell(
@@ -93,7 +105,7 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::FitCell
   const int radius = options_.search_radius_cells;
   for (int r = std::max(0, cell.y() - radius); r <= std::min(rows_ - 1, cell.y() + radius); ++r) {
     for (int c = std::max(0, cell.x() - radius); c <= std::min(cols_ - 1, cell.x() + radius); ++c) {
-      for (const auto& p : cells_[static_cast<size_t>(r) * cols_ + c]) local.push_back(&p);
+      for (const auto& p : cells_.bins[static_cast<size_t>(r) * cols_ + c]) local.push_back(&p);
     }
   }
   if (static_cast<int>(local.size()) < options_.min_points) return std::nullopt;
@@ -316,7 +328,7 @@ std::optional<double> SurfaceModel::IntersectFront(const Eigen::Vector3d& origin
 
 std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& origin,
                                                          const Eigen::Vector3d& direction) const {
-  if (points_ < options_.min_points) return std::nullopt;
+  if (Binned().points < options_.min_points) return std::nullopt;
   const auto local = IntersectSwept(origin, direction);
   if (!options_.extrapolate_plane) {
     if (!local) return std::nullopt;
@@ -350,7 +362,7 @@ std::optional<Eigen::Vector3d> SurfaceModel::IntersectSwept(
   // First guess: the mean depth of the measured surface along the
   // reference view; then refine the cell from the local plane's hit.
   const Eigen::Vector3d axis = world_from_reference_.rotation * Eigen::Vector3d::UnitZ();
-  const double mean_depth = depth_sum_ / points_;
+  const double mean_depth = cells_.depth_sum / cells_.points;  // binned by Intersect
   const double towards = axis.dot(direction);
   if (!(towards > 1e-6)) return std::nullopt;
   const double lambda =

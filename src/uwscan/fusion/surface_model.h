@@ -71,7 +71,7 @@ class SurfaceModel {
   };
   std::optional<Hit> Intersect(const Eigen::Vector3d& origin,
                                const Eigen::Vector3d& direction) const;
-  long size() const { return points_; }
+  long size() const { return Binned().points; }
   // Whether the laser points span enough to define the dominant plane.
   bool HasDominantPlane() const { return DominantPlane().has_value(); }
   // Whether a surface stands in front of the dominant plane
@@ -92,9 +92,23 @@ class SurfaceModel {
   Rigid3d world_from_reference_, reference_from_world_;
   SurfaceModelOptions options_;
   int cols_ = 0, rows_ = 0;
-  std::vector<std::vector<Eigen::Vector3d>> cells_;
-  std::vector<int> insert_counts_;  // for round-robin replacement in full cells
-  long points_ = 0;
+  // The points binned by their pixel in the reference view. A point is
+  // binned (one exact projection through the port) only when the cells are
+  // next read: a start-up attempt that stops at HasDominantPlane, building
+  // its surface anew from a hundred frames' profiles, reads none of them.
+  // Binning later in the same order gives the same cells.
+  struct Cells {
+    std::vector<std::vector<Eigen::Vector3d>> bins;
+    std::vector<int> insert_counts;  // for round-robin replacement in full cells
+    long points = 0;  // in the cells (at most max_points_per_cell each)
+    // Running mean depth of the points along the reference view, for the
+    // first guess of where a ray lands.
+    double depth_sum = 0.0;
+  };
+  mutable Cells cells_;
+  mutable std::vector<Eigen::Vector3d> unbinned_;  // world points, oldest first
+  static constexpr size_t kMaxUnbinned = 1 << 18;  // 6 MB, then binned at once
+  const Cells& Binned() const;
   // Reservoir sample of all points for the dominant plane (robust fit,
   // refreshed lazily).
   std::vector<Eigen::Vector3d> samples_;
@@ -126,9 +140,6 @@ class SurfaceModel {
   static constexpr int kFrontMinSupport = 3;
   static constexpr double kFrontDepthBand_m = 0.1;
   long profile_count_ = 0;
-  // Running mean depth of the points along the reference view, for the
-  // first guess of where a ray lands.
-  double depth_sum_ = 0.0;
 };
 
 }  // namespace uwscan::fusion

@@ -88,6 +88,47 @@ TEST(SurfaceModel, RaysMeetTheSweptSurface) {
 // its longest direction, but within the laser sheet: its best plane is the
 // sheet, not the surface. No dominant plane until profiles lie apart across
 // the line; then the surface's.
+// Points are binned into the reference view's cells only when the cells
+// are read: a surface queried after every profile (binning each time) and
+// one queried once at the end hold the same points and give the same hits,
+// and a query sees the profile added just before it.
+TEST(SurfaceModel, BinningWhenReadEqualsBinningAsAdded) {
+  const SimulatedSweep tank("tank-target", 12);
+  const Camera& camera = tank.camera();
+  SurfaceModelOptions options;
+  options.extrapolate_plane = false;
+  options.max_points_per_cell = 6;  // full cells: the round-robin order matters
+  const SurfaceModel at_once = tank.Sweep(options);
+  SurfaceModel as_added(camera, tank.world_from_first, options);
+  long size_before = 0;
+  for (int frame = 0; frame < tank.scenario.frames; ++frame) {
+    const sim::FrameState state = tank.scenario.FrameAt(tank.trajectory, frame);
+    laser::Profile profile;
+    for (const auto& p : tank.renderer.LaserGroundTruth(state))
+      profile.points.push_back({p.point_in_camera, p.pixel, 1.0f});
+    as_added.AddProfile(state.world_from_camera, profile);
+    const long size = as_added.size();
+    EXPECT_GT(size, size_before) << "frame " << frame;
+    size_before = size;
+  }
+  ASSERT_EQ(as_added.size(), at_once.size());
+  int hits = 0;
+  for (int v = 10; v < camera.height; v += 10) {
+    for (int u = 10; u < camera.width; u += 10) {
+      const auto ray = camera.BackProject(Eigen::Vector2d(u, v));
+      ASSERT_TRUE(ray.has_value());
+      const Eigen::Vector3d origin = tank.world_from_first * ray->origin;
+      const Eigen::Vector3d direction = tank.world_from_first.rotation * ray->direction;
+      const auto a = as_added.Intersect(origin, direction), b = at_once.Intersect(origin, direction);
+      ASSERT_EQ(a.has_value(), b.has_value()) << u << ", " << v;
+      if (!a) continue;
+      ++hits;
+      EXPECT_EQ(a->point, b->point) << u << ", " << v;
+    }
+  }
+  EXPECT_GT(hits, 50);
+}
+
 TEST(SurfaceModel, OneProfileGivesNoPlane) {
   const Camera camera = Camera::Flat1();
   // A hull of 4 m radius, z = 2 + x^2 / 8 (camera frame), and a shaft at
