@@ -15,6 +15,16 @@
 
 namespace uwscan::fusion {
 
+// The part of a frame's pose estimation that needs no other frame (the
+// image as the provider tracks it, the line mask it ignores), made ahead on
+// the image-reading thread (PoseProvider::PrepareAhead).
+struct PreparedFrame {
+  cv::Mat image;
+  cv::Mat mask;           // empty: no line, or not found yet (has_mask false)
+  bool has_mask = false;  // the mask was made from the frame's line
+  int variant = 0;        // the provider's choice it was made with
+};
+
 // Everything the pose estimation of one frame may use.
 struct FrameInput {
   int index = 0;
@@ -22,6 +32,7 @@ struct FrameInput {
   cv::Mat image;                                // as stored (raw Bayer, mono or BGR)
   const laser::Detection* detection = nullptr;  // with the line mask
   const laser::Profile* profile = nullptr;      // camera-frame laser points (metric)
+  const PreparedFrame* prepared = nullptr;      // PrepareAhead's, if it ran
 };
 
 struct PoseUpdate {
@@ -46,6 +57,12 @@ class PoseProvider {
   // predictions such as the laser motion filter's; the poses that place the
   // profiles are those Add and Finish return).
   virtual std::vector<PoseUpdate> Preliminary() const { return {}; }
+  // Whether PrepareAhead does anything. It may then run on another thread,
+  // concurrently with Add, for frames not yet added (their detection set
+  // if their line is found already); Add takes its result in
+  // FrameInput::prepared.
+  virtual bool PreparesAhead() const { return false; }
+  virtual PreparedFrame PrepareAhead(const FrameInput& /*frame*/) const { return {}; }
 };
 
 // Poses from a TUM trajectory, interpolated at the frame's timestamp

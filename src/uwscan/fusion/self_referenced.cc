@@ -160,10 +160,15 @@ SelfReferencedPoseProvider::SelfReferencedPoseProvider(const Camera& camera, int
   smoother_ = std::make_unique<PoseSmoother>(options_.smoothing_half_window);
 }
 
-void SelfReferencedPoseProvider::ChooseTrackedImage(const cv::Mat& frame) {
+std::optional<cv::Point> SelfReferencedPoseProvider::ChooseBayerOffset(const cv::Mat& frame) const {
   if (tracking_halvings_ > 0 && frame.channels() == 1)
-    bayer_offset_ = BayerSampleOffset(camera_.bayer, PassiveColour(laser_channel_));
-  if (bayer_offset_) tracking_camera_ = TrackingCamera(camera_, tracking_halvings_, bayer_offset_);
+    return BayerSampleOffset(camera_.bayer, PassiveColour(laser_channel_));
+  return std::nullopt;
+}
+
+// PreparedFrame::variant: which Bayer sample the image was made from.
+static int PreparedVariant(const std::optional<cv::Point>& bayer_offset) {
+  return bayer_offset ? 1 + bayer_offset->x + 2 * bayer_offset->y : 0;
 }
 
 void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, double timestamp_s,
@@ -173,21 +178,56 @@ void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, doub
   out->insert(out->end(), final_poses.begin(), final_poses.end());
 }
 
+PreparedFrame SelfReferencedPoseProvider::MakePrepared(
+    const cv::Mat& raw, const cv::Mat* line_mask,
+    const std::optional<cv::Point>& bayer_offset) const {
+  PreparedFrame prepared;
+  prepared.variant = PreparedVariant(bayer_offset);
+  const Camera tracking = TrackingCamera(camera_, tracking_halvings_, bayer_offset);
+  const cv::Size tracked(tracking.width, tracking.height);
+  prepared.image = NormalizeIllumination(
+      TrackedPassiveImage(raw, camera_.bayer, laser_channel_, bayer_offset, tracked),
+      options_.illumination_sigma_fraction * tracking.width);
+  if (line_mask) {
+    prepared.has_mask = true;
+    prepared.mask = TrackedLineMask(*line_mask, tracked);
+  }
+  return prepared;
+}
+
+cv::Mat SelfReferencedPoseProvider::TrackedLineMask(const cv::Mat& line_mask,
+                                                    const cv::Size& tracked) const {
+  if (line_mask.empty()) return {};
+  const int d = options_.mask_dilation_px;
+  cv::Mat dilated;
+  cv::dilate(line_mask, dilated,
+             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
+  return TrackedMask(dilated, tracked);
+}
+
+PreparedFrame SelfReferencedPoseProvider::PrepareAhead(const FrameInput& frame) const {
+  UWS_CHECK(!frame.image.empty(), "frame ", frame.index, ": empty image");
+  return MakePrepared(frame.image, frame.detection ? &frame.detection->mask : nullptr,
+                      ChooseBayerOffset(frame.image));
+}
+
 SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
     const FrameInput& frame, const cv::Mat& line_mask) const {
   Held held;
   held.input = frame;
-  const cv::Size tracked(tracking_camera_.width, tracking_camera_.height);
-  held.input.image = NormalizeIllumination(
-      TrackedPassiveImage(frame.image, camera_.bayer, laser_channel_, bayer_offset_, tracked),
-      options_.illumination_sigma_fraction * tracking_camera_.width);
   held.input.detection = nullptr;
   held.input.profile = nullptr;
-  if (!line_mask.empty()) {
-    const int d = options_.mask_dilation_px;
-    cv::dilate(line_mask, held.mask,
-               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
-    held.mask = TrackedMask(held.mask, tracked);
+  held.input.prepared = nullptr;
+  const PreparedFrame* ahead = frame.prepared;
+  if (ahead && ahead->variant == PreparedVariant(bayer_offset_)) {
+    held.input.image = ahead->image;
+    held.mask = ahead->has_mask ? ahead->mask
+                                : TrackedLineMask(line_mask, {tracking_camera_.width,
+                                                              tracking_camera_.height});
+  } else {
+    PreparedFrame prepared = MakePrepared(frame.image, &line_mask, bayer_offset_);
+    held.input.image = std::move(prepared.image);
+    held.mask = std::move(prepared.mask);
   }
   if (frame.profile) held.profile = *frame.profile;
   return held;
@@ -195,7 +235,11 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame) {
   preliminary_.clear();
-  if (frames_ == 0) ChooseTrackedImage(frame.image);
+  if (frames_ == 0) {
+    bayer_offset_ = ChooseBayerOffset(frame.image);
+    if (bayer_offset_)
+      tracking_camera_ = TrackingCamera(camera_, tracking_halvings_, bayer_offset_);
+  }
   ++frames_;
   UWS_CHECK(!bayer_offset_ || frame.image.channels() == 1, "frame ", frame.index,
             ": a colour image in a sequence of raw Bayer frames");
@@ -205,12 +249,15 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
     Skipped skipped{frame, line_mask, frame.profile ? *frame.profile : laser::Profile{}};
     skipped.input.detection = nullptr;
     skipped.input.profile = nullptr;
+    skipped.input.prepared = nullptr;
     skipped_.push_back(std::move(skipped));
     return {};
   }
   Held held = Prepare(frame, line_mask);
   if (running_) return TrackAfterSkipped(held);
-  GuessHeldMotion(&held);
+  // Every track_every-th held frame, as once running (the others take the
+  // guess of the frame before, PoseGuess).
+  if (held_.size() % options_.track_every == 0) GuessHeldMotion(&held);
   held_.push_back(std::move(held));
   if (static_cast<int>(held_.size()) % options_.init_attempt_every != 0 && held_.size() > 1)
     return {};
@@ -279,14 +326,30 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // wait for more frames.
   // (A later pass starts on a surface placed with tracked poses already.)
   const int refinements = use_prior ? 0 : options_.init_refinements;
+  // Every track_every-th held frame is tracked here, as once running; the
+  // frames between are placed between the tracked ones around them.
+  const size_t every = static_cast<size_t>(options_.track_every);
   for (int refinement = 0; refinement < refinements && held_.size() > 2; ++refinement) {
+    size_t last_tracked = 0;
     for (size_t i = 1; i < held_.size(); ++i) {
+      if (i % every != 0 && i + 1 < held_.size()) continue;
       Held& h = held_[i];
       const vo::FrameResult result =
           odometry_->ProcessFrame(h.input.image, h.mask, h.input.timestamp_s);
       if (!result.world_from_camera) break;
+      const Held& before = held_[last_tracked];
+      const std::vector<StampedPose> ends = {
+          {before.input.timestamp_s, last_tracked == 0 ? origin : *before.pose_guess},
+          {h.input.timestamp_s, *result.world_from_camera}};
+      for (size_t j = last_tracked + 1; j < i; ++j) {
+        if (const auto pose = InterpolatePose(ends, held_[j].input.timestamp_s, 0.0)) {
+          held_[j].pose_guess = *pose;
+          surface_->AddProfile(*pose, held_[j].profile);
+        }
+      }
       h.pose_guess = *result.world_from_camera;
       surface_->AddProfile(*h.pose_guess, h.profile);
+      last_tracked = i;
     }
     auto refined = std::make_shared<SurfaceModel>(camera_, origin, options_.surface);
     for (size_t i = 0; i < held_.size(); ++i)
@@ -318,12 +381,18 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   std::deque<Held> rest;
   rest.swap(held_);
   rest.pop_front();
-  for (const auto& h : rest) {
+  for (size_t k = 0; k < rest.size(); ++k) {
+    const Held& h = rest[k];
     if (!running_) {
       held_.push_back(h);  // lost again: hold for the next initialisation
       continue;
     }
-    Emit(Track(h), h.input.timestamp_s, &updates);
+    if ((k + 1) % every != 0 && k + 1 < rest.size()) {
+      skipped_.push_back(Skipped{h.input, h.mask, h.profile});  // placed after the next
+      continue;
+    }
+    const auto tracked = TrackAfterSkipped(h);
+    updates.insert(updates.end(), tracked.begin(), tracked.end());
   }
   return updates;
 }

@@ -107,6 +107,11 @@ class SelfReferencedPoseProvider : public PoseProvider {
   std::shared_ptr<const SurfaceModel> MeasuredSurface() const { return surface_; }
   int FirstFrameWithPose() const { return init_frame_; }
   std::vector<PoseUpdate> Preliminary() const override { return preliminary_; }
+  // The tracked image and dilated line mask (thread-safe: reads only what
+  // the constructor set). Not with track_every > 1: which frames will be
+  // tracked is known only in Add, and preparing all would waste the time.
+  bool PreparesAhead() const override { return options_.track_every == 1; }
+  PreparedFrame PrepareAhead(const FrameInput& frame) const override;
 
   // The image the odometry tracks: the LED's colour channel of a raw Bayer
   // or colour frame (not the laser's), else the frame itself.
@@ -165,9 +170,15 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // first pose their profiles never spread across the line and the surface
   // never gets its plane; placed where this odometry puts them, they do.
   void GuessHeldMotion(Held* held);
-  // On the first frame: the passive colour straight from the raw mosaic if
-  // the frames are raw and tracking is at half resolution or less.
-  void ChooseTrackedImage(const cv::Mat& frame);
+  // The passive colour straight from the raw mosaic if the frames are raw
+  // and tracking is at half resolution or less (chosen on the first frame).
+  std::optional<cv::Point> ChooseBayerOffset(const cv::Mat& frame) const;
+  // The tracked image (high-passed) and, if `line_mask` is given, the
+  // dilated mask at its size.
+  PreparedFrame MakePrepared(const cv::Mat& raw, const cv::Mat* line_mask,
+                             const std::optional<cv::Point>& bayer_offset) const;
+  // The line mask dilated by mask_dilation_px, at the tracked size.
+  cv::Mat TrackedLineMask(const cv::Mat& line_mask, const cv::Size& tracked) const;
   std::vector<PoseUpdate> TryInitialize();
   // A new odometry on surface_, started at the first held frame; false (and
   // no odometry) if it cannot start there.
@@ -203,7 +214,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // Frames not tracked since the last tracked one (track_every > 1): the
   // raw image and the line mask kept (shared with the caller, which hands
   // in new ones with every frame), prepared only if the sequence ends
-  // before the next tracked frame.
+  // before the next tracked frame. (The held frames skipped when tracking
+  // starts are prepared already; the last held frame is always tracked, so
+  // none of them is left here.)
   struct Skipped {
     FrameInput input;  // detection and profile unset
     cv::Mat line_mask;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <deque>
 #include <exception>
 #include <map>
 #include <mutex>
@@ -41,32 +42,39 @@ std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
   return frames;
 }
 
-// A frame as read, with its laser line.
+// A frame as read, with its laser line and what the pose provider made of
+// it ahead.
 struct ReadFrame {
   cv::Mat image;
   laser::Detection detection;
   laser::Profile profile;
+  std::optional<fusion::PreparedFrame> prepared;
 };
 
-// Reads (and decodes) the next frame on a second thread while the current
-// one is processed (a live camera delivers decoded frames; decoding a
-// dataset's PNGs would otherwise add to the time), and finds its laser
-// line with `line_stage`: there too, one frame ahead of the pose
-// estimation, when the stage needs no poses (servo sweeps, fixed lasers
-// without the motion filter), so that the two share the machine's cores;
-// otherwise on the caller's thread, once the frames before have their
-// poses. One thread for the whole sequence (its decoding buffers are
-// reused).
+// Reads (and decodes) the frames on a second thread, up to kAhead frames
+// ahead of the one being processed (a live camera delivers decoded frames;
+// decoding a dataset's PNGs would otherwise add to the time), and finds
+// their laser lines with `line_stage` there too when the stage needs no
+// poses (servo sweeps, fixed lasers without the motion filter), so that
+// the two share the machine's cores; otherwise on the caller's thread,
+// once the frames before have their poses. The pose provider's per-frame
+// preparation (PrepareAhead: the image it tracks, the line's mask) is made
+// there as well. Several frames ahead, not one: the pose estimation's time
+// per frame is uneven (a keyframe's bundle adjustment takes ten frames'
+// time), and with one frame ahead the reader would idle through it and
+// the caller wait for the reader after it. One thread for the whole
+// sequence (its decoding buffers are reused).
 class FrameReader {
  public:
-  FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames, LineStage* line_stage)
+  // `provider` may be null (no preparation ahead).
+  FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames, LineStage* line_stage,
+              const fusion::PoseProvider* provider)
       : dataset_(std::move(dataset)),
         frames_(frames),
         line_stage_(line_stage),
-        line_ahead_(!line_stage->NeedsPoses()) {
-    if (frames_.empty()) return;
-    requested_ = 0;
-    worker_ = std::thread([this] { Work(); });
+        line_ahead_(!line_stage->NeedsPoses()),
+        provider_(provider && provider->PreparesAhead() ? provider : nullptr) {
+    if (!frames_.empty()) worker_ = std::thread([this] { Work(); });
   }
   ~FrameReader() {
     {
@@ -80,66 +88,71 @@ class FrameReader {
   ReadFrame Get(size_t i) {
     const auto start = std::chrono::steady_clock::now();
     std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [this] { return done_; });
+    changed_.wait(lock, [this] { return !ready_.empty(); });
     seconds_waiting_ += Seconds(start);
-    UWS_CHECK(done_index_ == i, "frame reader: frame ", i, " asked for out of turn");
-    done_ = false;
-    ReadFrame frame = std::move(result_);
-    const std::exception_ptr error = error_;
-    error_ = nullptr;
-    if (!error && i + 1 < frames_.size()) requested_ = i + 1;  // read on while this one is used
+    Entry entry = std::move(ready_.front());
+    ready_.pop_front();
     lock.unlock();
     changed_.notify_all();
-    if (error) std::rethrow_exception(error);  // a read error, named
-    if (!line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
-    return frame;
+    if (entry.error) std::rethrow_exception(entry.error);  // a read error, named
+    UWS_CHECK(entry.index == i, "frame reader: frame ", i, " asked for out of turn");
+    if (!line_ahead_) {
+      line_stage_->Process(i, entry.frame.image, &entry.frame.detection, &entry.frame.profile);
+    }
+    return std::move(entry.frame);
   }
   // Time Get spent waiting for the reading thread.
   double seconds_waiting() const { return seconds_waiting_; }
 
  private:
-  static constexpr size_t kNone = size_t(-1);
+  static constexpr size_t kAhead = 8;
+  struct Entry {
+    size_t index = 0;
+    ReadFrame frame;
+    std::exception_ptr error;  // instead of the frame
+  };
   void Work() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (true) {
-      changed_.wait(lock, [this] { return stop_ || requested_ != kNone; });
-      if (stop_) return;
-      const size_t i = requested_;
-      requested_ = kNone;
-      lock.unlock();
-      ReadFrame frame;
-      std::exception_ptr error;
-      try {
-        frame = Read(i);
-      } catch (...) {
-        error = std::current_exception();
+    for (size_t i = 0; i < frames_.size(); ++i) {
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        changed_.wait(lock, [this] { return stop_ || ready_.size() < kAhead; });
+        if (stop_) return;
       }
-      lock.lock();
-      result_ = std::move(frame);
-      error_ = error;
-      done_index_ = i;
-      done_ = true;
+      Entry entry{i, {}, nullptr};
+      try {
+        entry.frame = Read(i);
+      } catch (...) {
+        entry.error = std::current_exception();
+      }
+      const bool failed = entry.error != nullptr;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ready_.push_back(std::move(entry));
+      }
       changed_.notify_all();
+      if (failed) return;  // the caller stops at this frame
     }
   }
   ReadFrame Read(size_t i) const {
     ReadFrame frame;
     frame.image = ReadImage(dataset_ / frames_[i].file);
     if (line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
+    if (provider_) {
+      frame.prepared = provider_->PrepareAhead({frames_[i].index, frames_[i].timestamp_s,
+                                                frame.image,
+                                                line_ahead_ ? &frame.detection : nullptr});
+    }
     return frame;
   }
   fs::path dataset_;
   const std::vector<FrameRecord>& frames_;
   LineStage* line_stage_;
-  const bool line_ahead_;  // found on the reading thread
-  double seconds_waiting_ = 0.0;  // caller's thread only
+  const bool line_ahead_;                 // found on the reading thread
+  const fusion::PoseProvider* provider_;  // if it prepares frames ahead
+  double seconds_waiting_ = 0.0;          // caller's thread only
   std::mutex mutex_;
   std::condition_variable changed_;
-  size_t requested_ = kNone;  // the frame the worker is to read next
-  bool done_ = false;         // result_ (or error_) holds frame done_index_
-  size_t done_index_ = kNone;
-  ReadFrame result_;
-  std::exception_ptr error_;
+  std::deque<Entry> ready_;  // read, not yet taken, in frame order
   bool stop_ = false;
   std::thread worker_;
 };
@@ -320,7 +333,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
-  FrameReader reader(job.dataset, frames, &line_stage);
+  FrameReader reader(job.dataset, frames, &line_stage, provider.get());
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     ReadFrame frame = reader.Get(i);
@@ -329,7 +342,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     laser::Profile& profile = frame.profile;
 
     auto t = std::chrono::steady_clock::now();
-    fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile};
+    fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile,
+                             frame.prepared ? &*frame.prepared : nullptr};
     const auto updates = provider->Add(input);
     for (const auto& raw : provider->Preliminary())
       line_stage.SetPose(raw.frame, raw.world_from_camera);
@@ -372,7 +386,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
                           other.rig.CameraFromLaser(0, 0), other_frames, &report);
     TumWriter other_trajectory(job.out / ("trajectory_" + other_camera.name + ".tum"));
     CameraReport camera_report{other_camera.name, other.rig.lasers.front().name};
-    FrameReader other_reader(other.folder, other_frames, &other_stage);
+    FrameReader other_reader(other.folder, other_frames, &other_stage, nullptr);
     for (size_t i = 0; i < other_frames.size(); ++i) {
       const FrameRecord& record = other_frames[i];
       const ReadFrame frame = other_reader.Get(i);
