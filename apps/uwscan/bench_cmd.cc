@@ -6,6 +6,7 @@
 #include "uwscan/pipeline/laser_benchmark.h"
 #include "uwscan/pipeline/pipeline_benchmark.h"
 #include "uwscan/pipeline/projection_benchmark.h"
+#include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::cli {
@@ -84,11 +85,12 @@ void RegisterBenchCommands(CLI::App& app) {
   pipeline->add_option("--height", pipeline_options->height)->capture_default_str();
   pipeline->add_flag("--async-ba", pipeline_options->async_bundle_adjustment,
                      "windowed BA on a second thread, as reconstruct --async-ba");
-  pipeline
-      ->add_option("--track-every", pipeline_options->track_every, "as reconstruct --track-every")
+  auto pipeline_track_every = std::make_shared<std::string>("auto");
+  pipeline->add_option("--track-every", *pipeline_track_every, "as reconstruct --track-every")
       ->capture_default_str();
-  pipeline->callback([pipeline_options, pipeline_dataset] {
+  pipeline->callback([pipeline_options, pipeline_dataset, pipeline_track_every] {
     pipeline_options->dataset = *pipeline_dataset;
+    pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);
     std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
   });
 }

@@ -17,6 +17,16 @@ std::string PassesNote(int passes, bool automatic) {
          (automatic ? " (a surface in front of the main one)" : "");
 }
 
+// ", tracking every 2nd frame" for the summary line; nothing for every frame.
+std::string TrackEveryNote(int every) {
+  if (every <= 1) return "";
+  return ", tracking every " + std::to_string(every) +
+         (every == 2   ? "nd"
+          : every == 3 ? "rd"
+                       : "th") +
+         " frame";
+}
+
 }  // namespace
 
 void RegisterReconstructCommand(CLI::App& app) {
@@ -32,6 +42,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto line_ranges = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
   auto passes = std::make_shared<std::string>("auto");
+  auto track_every = std::make_shared<std::string>("auto");
   auto main_camera_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "reconstruct",
@@ -70,9 +81,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "the odometry tracks the image halved until it is at most this wide (0 = full "
                   "resolution)")
       ->capture_default_str();
-  cmd->add_option("--track-every", job->self_referenced.track_every,
+  cmd->add_option("--track-every", *track_every,
                   "the odometry tracks every Nth frame once running; the frames between get "
-                  "poses interpolated between the tracked ones (faster at high frame rates)")
+                  "poses interpolated between the tracked ones; auto: every frame up to 100 Hz, "
+                  "every second at 101-200 Hz, ...")
       ->capture_default_str();
   cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
                   "keyframes in the odometry's windowed bundle adjustment")
@@ -133,13 +145,15 @@ void RegisterReconstructCommand(CLI::App& app) {
     } else {
       throw UsageError("--passes must be auto, 1, 2 or 3, got '" + *passes + "'");
     }
+    job->track_every = ParseTrackEvery(*track_every);
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
       std::fprintf(stderr,
                    "reconstruct: %d frames (%d with a laser line, %d without pose), %ld points, "
-                   "poses from %s%s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
+                   "poses from %s%s%s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
-                   r.pose_source.c_str(), PassesNote(r.passes, job->passes == 0).c_str(), r.seconds,
+                   r.pose_source.c_str(), PassesNote(r.passes, job->passes == 0).c_str(),
+                   job->poses_file ? "" : TrackEveryNote(r.track_every).c_str(), r.seconds,
                    r.RealTimeFactor(), out->c_str());
       for (const CameraReport& camera : r.other_cameras) {
         std::fprintf(stderr,

@@ -79,8 +79,11 @@ expect_status 1 "two pods, cam1 on the top folder" "$uwscan" reconstruct --datas
 grep -q "pods/cam1" "$work/err" || fail "two pods: --camera cam1 error does not say where"
 expect_status 2 "reconstruct --track-every 0" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.every0" --track-every 0 --quiet
-grep -q "track-every must be >= 1, got 0" "$work/err" || fail "--track-every 0: unclear error"
+grep -q "track-every must be auto or a count >= 1, got '0'" "$work/err" || fail "--track-every 0: unclear error"
 [ ! -e "$work/pods.every0" ] || fail "--track-every 0 created its output folder"
+expect_status 2 "reconstruct --track-every 2x" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.every2x" --track-every 2x --quiet
+grep -q "track-every must be auto or a count >= 1, got '2x'" "$work/err" || fail "--track-every 2x: unclear error"
 expect_status 2 "reconstruct --oracle-depths --poses" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.oracle" --oracle-depths --poses "$work/pods/groundtruth.tum" --quiet
 grep -q "oracle-depths and --poses exclude each other" "$work/err" || fail "--oracle-depths --poses: unclear error"

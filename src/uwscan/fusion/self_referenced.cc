@@ -221,9 +221,9 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
   const PreparedFrame* ahead = frame.prepared;
   if (ahead && ahead->variant == PreparedVariant(bayer_offset_)) {
     held.input.image = ahead->image;
-    held.mask = ahead->has_mask ? ahead->mask
-                                : TrackedLineMask(line_mask, {tracking_camera_.width,
-                                                              tracking_camera_.height});
+    held.mask = ahead->has_mask
+                    ? ahead->mask
+                    : TrackedLineMask(line_mask, {tracking_camera_.width, tracking_camera_.height});
   } else {
     PreparedFrame prepared = MakePrepared(frame.image, &line_mask, bayer_offset_);
     held.input.image = std::move(prepared.image);

@@ -77,8 +77,9 @@ struct SelfReferencedOptions {
   // between get their pose interpolated (slerp) from the two tracked frames
   // around them, and their profiles join the surface with it. At 144 Hz a
   // hovering platform's motion is smooth over a few frames: with 2 the
-  // tank hovers' clouds stay within the seeds' spread and the pose
-  // estimation takes ~20 % less time (BENCHMARKS.md). 1: every frame.
+  // tank hovers' clouds stay within the seeds' spread and the scan runs in
+  // real time (BENCHMARKS.md). 1: every frame. `uwscan reconstruct` sets
+  // it from the frame rate (ReconstructJob::track_every).
   int track_every = 1;
   // When set, features take their depth from the truth (DepthOracle), not
   // from the laser surface; the surface still decides when the map starts.

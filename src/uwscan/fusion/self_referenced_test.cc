@@ -145,7 +145,7 @@ TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) 
   for (const auto& [refinements, every] : {std::pair{0, 1}, {2, 1}, {2, 3}}) {
     job.out = root / ("out" + std::to_string(refinements) + "_" + std::to_string(every));
     job.self_referenced.init_refinements = refinements;
-    job.self_referenced.track_every = every;
+    job.track_every = every;
     const ReconstructReport report = RunReconstruct(job);
     EXPECT_EQ(report.frames_without_pose, 0);
     const auto floor = *EvaluateReconstruction(job.dataset, job.out).compensated.Surface("floor");
@@ -175,7 +175,7 @@ TEST(SelfReferencedPoseProvider, FramesBetweenTrackedOnesGetInterpolatedPoses) {
   double uncompensated_mm = 0.0;
   for (const int every : {1, 3}) {
     job.out = root / ("every" + std::to_string(every));
-    job.self_referenced.track_every = every;
+    job.track_every = every;
     const ReconstructReport report = RunReconstruct(job);
     without_pose[every] = report.frames_without_pose;
     interpolated[every] = report.pose_details["interpolated_between_tracked"].get<int>();
@@ -328,10 +328,10 @@ TEST(SelfReferencedPoseProvider, FramesPreparedAheadGiveTheSameResult) {
     std::map<bool, int> prepared = {{false, 0}, {true, 0}};
     for (const bool ahead : {false, true}) {
       job.out = root / ("out" + std::to_string(width) + (ahead ? "ahead" : ""));
-      RunReconstruct(job, std::make_unique<Forwarding>(
-                              std::make_unique<SelfReferencedPoseProvider>(
-                                  camera, laser::kGreen, job.self_referenced),
-                              ahead, &prepared[ahead]));
+      RunReconstruct(job,
+                     std::make_unique<Forwarding>(std::make_unique<SelfReferencedPoseProvider>(
+                                                      camera, laser::kGreen, job.self_referenced),
+                                                  ahead, &prepared[ahead]));
       trajectory[ahead] = ReadFileBytes(job.out / "trajectory.tum");
       cloud[ahead] = ReadFileBytes(job.out / "cloud.ply");
     }

@@ -100,7 +100,7 @@ class SurfaceModel {
   struct Cells {
     std::vector<std::vector<Eigen::Vector3d>> bins;
     std::vector<int> insert_counts;  // for round-robin replacement in full cells
-    long points = 0;  // in the cells (at most max_points_per_cell each)
+    long points = 0;                 // in the cells (at most max_points_per_cell each)
     // Running mean depth of the points along the reference view, for the
     // first guess of where a ray lands.
     double depth_sum = 0.0;

@@ -119,7 +119,8 @@ TEST(SurfaceModel, BinningWhenReadEqualsBinningAsAdded) {
       ASSERT_TRUE(ray.has_value());
       const Eigen::Vector3d origin = tank.world_from_first * ray->origin;
       const Eigen::Vector3d direction = tank.world_from_first.rotation * ray->direction;
-      const auto a = as_added.Intersect(origin, direction), b = at_once.Intersect(origin, direction);
+      const auto a = as_added.Intersect(origin, direction),
+                 b = at_once.Intersect(origin, direction);
       ASSERT_EQ(a.has_value(), b.has_value()) << u << ", " << v;
       if (!a) continue;
       ++hits;
@@ -231,11 +232,11 @@ TEST(SurfaceModel, ShaftInFrontOfTheHullKeepsItsOwnDepth) {
   EXPECT_LT(quantile(on_shaft, 0.8), 0.05);
   EXPECT_LT(quantile(on_hull, 0.5), 0.02);
   EXPECT_LT(quantile(on_hull, 0.9), 0.05);
-  std::printf("range error, median / 80 %% / 90 %%: shaft %.3f / %.3f / %.3f m (%zu rays), hull "
-              "%.3f / %.3f / %.3f m (%zu)\n",
-              quantile(on_shaft, 0.5), quantile(on_shaft, 0.8), quantile(on_shaft, 0.9),
-              on_shaft.size(), quantile(on_hull, 0.5), quantile(on_hull, 0.8),
-              quantile(on_hull, 0.9), on_hull.size());
+  std::printf(
+      "range error, median / 80 %% / 90 %%: shaft %.3f / %.3f / %.3f m (%zu rays), hull "
+      "%.3f / %.3f / %.3f m (%zu)\n",
+      quantile(on_shaft, 0.5), quantile(on_shaft, 0.8), quantile(on_shaft, 0.9), on_shaft.size(),
+      quantile(on_hull, 0.5), quantile(on_hull, 0.8), quantile(on_hull, 0.9), on_hull.size());
   // Without a surface in front (a threshold no sample reaches), the shaft
   // takes the hull's depth.
   SurfaceModelOptions no_front;

@@ -24,7 +24,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   job.out = scratch / "result";
   job.quiet = true;
   job.self_referenced.odometry.async_bundle_adjustment = options.async_bundle_adjustment;
-  job.self_referenced.track_every = options.track_every;
+  job.track_every = options.track_every;
   job.Check();  // before the (long) simulation
   double simulate_seconds = 0.0;
   if (job.dataset.empty()) {
@@ -48,7 +48,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   nlohmann::json json = report.ToJson();
   json["benchmark"] = "pipeline";
   json["async_bundle_adjustment"] = options.async_bundle_adjustment;
-  json["track_every"] = options.track_every;
+  json["track_every"] = report.track_every;
   json["dataset"] = options.dataset.empty() ? "simulated tank-target" : options.dataset.string();
   json["simulation_s_not_timed"] = simulate_seconds;
   json["frames_per_second"] = report.frames / std::max(report.seconds, 1e-9);

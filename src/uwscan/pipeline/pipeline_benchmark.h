@@ -14,7 +14,7 @@ struct PipelineBenchmarkOptions {
   int width = 1280;
   int height = 960;
   bool async_bundle_adjustment = false;  // as reconstruct --async-ba
-  int track_every = 1;                   // as reconstruct --track-every
+  int track_every = 0;                   // as reconstruct --track-every (0: auto)
   void Check() const;
 };
 

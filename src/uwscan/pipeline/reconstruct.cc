@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -138,9 +139,9 @@ class FrameReader {
     frame.image = ReadImage(dataset_ / frames_[i].file);
     if (line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
     if (provider_) {
-      frame.prepared = provider_->PrepareAhead({frames_[i].index, frames_[i].timestamp_s,
-                                                frame.image,
-                                                line_ahead_ ? &frame.detection : nullptr});
+      frame.prepared =
+          provider_->PrepareAhead({frames_[i].index, frames_[i].timestamp_s, frame.image,
+                                   line_ahead_ ? &frame.detection : nullptr});
     }
     return frame;
   }
@@ -247,6 +248,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   const fusion::SelfReferencedPoseProvider* self_referenced = nullptr;
   if (!provider) {
     fusion::SelfReferencedOptions options = job.self_referenced;
+    options.track_every = ResolveTrackEvery(job.track_every, frames);
+    report.track_every = options.track_every;
     options.use_line_ranges = job.line_ranges.value_or(!LaserSweeps(frames));
     if (job.oracle_depths) options.depth_oracle = LoadDepthOracle(job.dataset);
     if (prior) {
@@ -342,8 +345,9 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     laser::Profile& profile = frame.profile;
 
     auto t = std::chrono::steady_clock::now();
-    fusion::FrameInput input{record.index, record.timestamp_s, image, &detection, &profile,
-                             frame.prepared ? &*frame.prepared : nullptr};
+    fusion::FrameInput input{record.index, record.timestamp_s,
+                             image,        &detection,
+                             &profile,     frame.prepared ? &*frame.prepared : nullptr};
     const auto updates = provider->Add(input);
     for (const auto& raw : provider->Preliminary())
       line_stage.SetPose(raw.frame, raw.world_from_camera);

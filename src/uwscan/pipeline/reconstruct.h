@@ -12,6 +12,7 @@
 
 #include "uwscan/fusion/pose_provider.h"
 #include "uwscan/fusion/self_referenced.h"
+#include "uwscan/io/dataset.h"
 #include "uwscan/laser/detector.h"
 
 namespace uwscan {
@@ -72,6 +73,15 @@ struct ReconstructJob {
   // costs the time of the first; the last one's outputs replace the others'.
   int passes = 0;
   static constexpr int kMaxPasses = 3;  // also auto's, when it takes more than one
+  // The odometry tracks every Nth frame once running and places the frames
+  // between between them (SelfReferencedOptions::track_every, which this
+  // sets). 0 (auto): the fewest N that keep the tracked rate at or below
+  // kMaxTrackedRateHz, from frames.csv's timestamps: 2 at the thesis
+  // camera's 144 Hz (a hover's motion is smooth over 14 ms: the tank
+  // hovers' clouds stay within the seeds' spread, and the scan runs in real
+  // time on two cores, BENCHMARKS.md), 1 at 100 Hz and below.
+  int track_every = 0;
+  static constexpr double kMaxTrackedRateHz = 100.0;
   void Check() const;
 };
 
@@ -105,6 +115,7 @@ struct ReconstructReport {
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   int passes = 1;                       // the self-referenced odometry's (ReconstructJob::passes)
+  int track_every = 1;                  // the odometry's, as used (ReconstructJob::track_every)
   double seconds_earlier_passes = 0.0;  // of the passes before the last (included in `seconds`)
   double sequence_duration_s = 0.0;     // from the frame timestamps
   std::string pose_source;
@@ -119,6 +130,12 @@ struct ReconstructReport {
   std::vector<std::string> Warnings() const;
   nlohmann::json ToJson() const;
 };
+
+// --track-every's value: "auto" (0) or a count >= 1; else a UsageError.
+int ParseTrackEvery(const std::string& value);
+// ReconstructJob::track_every for these frames, auto resolved from their
+// timestamps.
+int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);
 
 // Uses `provider` if given, else the job's --poses file, else the
 // self-referenced visual odometry. Writes OUT/cloud.ply,

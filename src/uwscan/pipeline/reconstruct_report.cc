@@ -1,6 +1,7 @@
 // The reconstruction job's checks, and its report as JSON and warnings.
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -15,9 +16,8 @@ void ReconstructJob::Check() const {
   if (max_frames < 0)
     throw UsageError("--max-frames must be >= 0 (0 = all), got " + std::to_string(max_frames));
   UWS_CHECK(!out.empty(), "--out: empty output folder name");
-  if (self_referenced.track_every < 1)
-    throw UsageError("--track-every must be >= 1, got " +
-                     std::to_string(self_referenced.track_every));
+  if (track_every < 0)
+    throw UsageError("--track-every must be auto or >= 1, got " + std::to_string(track_every));
   if (self_referenced.max_tracking_width < 0)
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
@@ -39,6 +39,31 @@ void ReconstructJob::Check() const {
     throw UsageError(
         "--oracle-depths and --poses exclude each other (the oracle feeds the odometry, which "
         "--poses replaces)");
+}
+
+int ParseTrackEvery(const std::string& value) {
+  if (value == "auto") return 0;
+  size_t used = 0;
+  int count = 0;
+  try {
+    count = std::stoi(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != value.size() || value.empty() || count < 1)
+    throw UsageError("--track-every must be auto or a count >= 1, got '" + value + "'");
+  return count;
+}
+
+int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
+  if (track_every > 0) return track_every;
+  if (frames.size() < 2) return 1;
+  const double interval_s =
+      (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1);
+  if (!(interval_s > 0.0)) return 1;
+  const double rate_hz = 1.0 / interval_s;
+  return std::max(1,
+                  static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxTrackedRateHz - 1e-9)));
 }
 
 std::vector<std::string> ReconstructReport::Warnings() const {
@@ -154,6 +179,7 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"io", seconds_io},
             {"earlier_passes", seconds_earlier_passes}}},
           {"passes", passes},
+          {"track_every", track_every},
           {"sequence_duration_s", sequence_duration_s},
           {"real_time_factor", RealTimeFactor()}};
 }

@@ -368,7 +368,7 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   std::vector<std::unique_ptr<char[]>> clutter;  // moves later allocations elsewhere
   for (int run = 0; run < 3; ++run) {
     job.out = root / ("run" + std::to_string(run));
-    RunReconstruct(job);
+    EXPECT_EQ(RunReconstruct(job).track_every, 2);  // auto at 144 Hz
     std::ifstream in(job.out / "trajectory.tum");
     trajectories.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     for (int i = 0; i < 1000; ++i) clutter.emplace_back(new char[size_t(16 + 97 * i % 4096)]);
@@ -377,6 +377,29 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   EXPECT_EQ(trajectories[1], trajectories[0]);
   EXPECT_EQ(trajectories[2], trajectories[0]);
   fs::remove_all(root);
+}
+
+// --track-every auto: the fewest N that keep the tracked rate at or below
+// 100 Hz; a count given is kept.
+TEST(ReconstructTrackEvery, AutoFollowsTheFrameRate) {
+  const auto frames_at = [](double rate_hz, int count) {
+    std::vector<FrameRecord> frames(count);
+    for (int i = 0; i < count; ++i) frames[i].timestamp_s = 3.0 + i / rate_hz;
+    return frames;
+  };
+  EXPECT_EQ(ResolveTrackEvery(0, frames_at(144.0, 50)), 2);
+  EXPECT_EQ(ResolveTrackEvery(0, frames_at(100.0, 50)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, frames_at(50.0, 50)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, frames_at(15.0, 50)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, frames_at(250.0, 50)), 3);
+  EXPECT_EQ(ResolveTrackEvery(0, frames_at(144.0, 1)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, std::vector<FrameRecord>(5)), 1);  // no time between frames
+  EXPECT_EQ(ResolveTrackEvery(3, frames_at(50.0, 50)), 3);
+  EXPECT_EQ(ResolveTrackEvery(1, frames_at(144.0, 50)), 1);
+  EXPECT_EQ(ParseTrackEvery("auto"), 0);
+  EXPECT_EQ(ParseTrackEvery("2"), 2);
+  for (const char* bad : {"0", "-1", "2x", "", "two"})
+    EXPECT_THROW(ParseTrackEvery(bad), UsageError) << bad;
 }
 
 TEST_F(ReconstructTest, BadInputIsAClearErrorWithoutOutput) {
