@@ -178,12 +178,11 @@ void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, doub
   out->insert(out->end(), final_poses.begin(), final_poses.end());
 }
 
-PreparedFrame SelfReferencedPoseProvider::MakePrepared(
-    const cv::Mat& raw, const cv::Mat* line_mask,
-    const std::optional<cv::Point>& bayer_offset) const {
+PreparedFrame SelfReferencedPoseProvider::MakePrepared(const cv::Mat& raw, const cv::Mat* line_mask,
+                                                       const std::optional<cv::Point>& bayer_offset,
+                                                       const Camera& tracking) const {
   PreparedFrame prepared;
   prepared.variant = PreparedVariant(bayer_offset);
-  const Camera tracking = TrackingCamera(camera_, tracking_halvings_, bayer_offset);
   const cv::Size tracked(tracking.width, tracking.height);
   prepared.image = NormalizeIllumination(
       TrackedPassiveImage(raw, camera_.bayer, laser_channel_, bayer_offset, tracked),
@@ -207,8 +206,9 @@ cv::Mat SelfReferencedPoseProvider::TrackedLineMask(const cv::Mat& line_mask,
 
 PreparedFrame SelfReferencedPoseProvider::PrepareAhead(const FrameInput& frame) const {
   UWS_CHECK(!frame.image.empty(), "frame ", frame.index, ": empty image");
-  return MakePrepared(frame.image, frame.detection ? &frame.detection->mask : nullptr,
-                      ChooseBayerOffset(frame.image));
+  const std::optional<cv::Point> bayer_offset = ChooseBayerOffset(frame.image);
+  return MakePrepared(frame.image, frame.detection ? &frame.detection->mask : nullptr, bayer_offset,
+                      TrackingCamera(camera_, tracking_halvings_, bayer_offset));
 }
 
 SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
@@ -225,7 +225,7 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
                     ? ahead->mask
                     : TrackedLineMask(line_mask, {tracking_camera_.width, tracking_camera_.height});
   } else {
-    PreparedFrame prepared = MakePrepared(frame.image, &line_mask, bayer_offset_);
+    PreparedFrame prepared = MakePrepared(frame.image, &line_mask, bayer_offset_, tracking_camera_);
     held.input.image = std::move(prepared.image);
     held.mask = std::move(prepared.mask);
   }

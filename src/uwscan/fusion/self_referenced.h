@@ -175,9 +175,11 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // and tracking is at half resolution or less (chosen on the first frame).
   std::optional<cv::Point> ChooseBayerOffset(const cv::Mat& frame) const;
   // The tracked image (high-passed) and, if `line_mask` is given, the
-  // dilated mask at its size.
+  // dilated mask at its size; `tracking` is the camera of `bayer_offset`'s
+  // image (TrackingCamera).
   PreparedFrame MakePrepared(const cv::Mat& raw, const cv::Mat* line_mask,
-                             const std::optional<cv::Point>& bayer_offset) const;
+                             const std::optional<cv::Point>& bayer_offset,
+                             const Camera& tracking) const;
   // The line mask dilated by mask_dilation_px, at the tracked size.
   cv::Mat TrackedLineMask(const cv::Mat& line_mask, const cv::Size& tracked) const;
   std::vector<PoseUpdate> TryInitialize();

@@ -13,6 +13,11 @@ namespace uwscan {
 
 std::string FrameFileName(int index) { return fmt::format("frames/{:06d}.png", index); }
 
+double MeanFrameInterval(const std::vector<FrameRecord>& frames) {
+  if (frames.size() < 2) return 0.0;
+  return (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1);
+}
+
 std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
   std::ifstream in(path);
   UWS_CHECK(in.good(), path.string(), ": cannot open for reading");
@@ -28,8 +33,8 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
     with_angle = rest == ",laser_angle_rad" || rest == ",laser_angle_rad,laser_on";
     with_on = rest == ",laser_on" || rest == ",laser_angle_rad,laser_on";
     UWS_CHECK(rest.empty() || with_angle || with_on, path.string(),
-              ": header must be 'index,timestamp_s,file[,laser_angle_rad][,laser_on]' (got '",
-              line, "')");
+              ": header must be 'index,timestamp_s,file[,laser_angle_rad][,laser_on]' (got '", line,
+              "')");
   } else {
     UWS_THROW(path.string(),
               ": header must be 'index,timestamp_s,file[,laser_angle_rad][,laser_on]' (got '", line,

@@ -28,6 +28,9 @@ std::string FrameFileName(int index);
 
 std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path);
 
+// Mean time between frames (s); 0 for fewer than two frames.
+double MeanFrameInterval(const std::vector<FrameRecord>& frames);
+
 class FramesCsvWriter {
  public:
   FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <memory>
+#include <opencv2/imgproc.hpp>
 
 #include "uwscan/util/error.h"
 
@@ -134,9 +135,9 @@ std::optional<cv::Mat> DecodePng(const std::vector<uint8_t>& bytes, const std::s
   const libdeflate_result result = libdeflate_zlib_decompress(
       ThreadDecompressor(), stream.data(), stream.size(), raw.data(), raw.size(), nullptr);
   UWS_CHECK(result == LIBDEFLATE_SUCCESS, name, ": damaged PNG (",
-            result == LIBDEFLATE_SHORT_OUTPUT          ? "too little image data"
+            result == LIBDEFLATE_SHORT_OUTPUT         ? "too little image data"
             : result == LIBDEFLATE_INSUFFICIENT_SPACE ? "too much image data"
-                                                       : "corrupt compressed data",
+                                                      : "corrupt compressed data",
             ")");
 
   const int depth = header.bit_depth == 16 ? CV_16U : CV_8U;
@@ -159,15 +160,8 @@ std::optional<cv::Mat> DecodePng(const std::vector<uint8_t>& bytes, const std::s
         out16[i] = uint16_t((uint16_t(in[2 * i]) << 8) | in[2 * i + 1]);
       }
     }
-    if (channels == 3) {  // R G B as stored, B G R as OpenCV holds them
-      if (sample_bytes == 1) {
-        for (uint32_t x = 0; x < header.width; ++x) std::swap(out[3 * x], out[3 * x + 2]);
-      } else {
-        uint16_t* out16 = reinterpret_cast<uint16_t*>(out);
-        for (uint32_t x = 0; x < header.width; ++x) std::swap(out16[3 * x], out16[3 * x + 2]);
-      }
-    }
   }
+  if (channels == 3) cv::cvtColor(image, image, cv::COLOR_RGB2BGR);  // as OpenCV holds them
   return image;
 }
 

@@ -240,8 +240,9 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
   // Branch-free compaction: every index is written, the count advances
   // only for a local maximum (on a textured tank frame some 40 of a row's
   // 640 samples, scattered, so a branch per sample mispredicts).
+  // (The scratch keeps its size across rows: no re-initialisation per row.)
   auto& candidates = s->candidates;
-  candidates.resize(std::max(n, 1));
+  if (static_cast<int>(candidates.size()) < n) candidates.resize(n);
   int count = 0;
   {
     int* __restrict out = candidates.data();
@@ -252,8 +253,8 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
       count += int(v >= threshold) & int(v >= band_r[i - 1]) & int(v > band_r[i + 1]);
     }
   }
-  candidates.resize(count);
-  for (const int i : candidates) {
+  for (int c = 0; c < count; ++c) {
+    const int i = candidates[c];
     const int32_t b = band[i];
     bool is_max = true;
     for (int j = std::max(0, i - a); j <= std::min(n - 1, i + a) && is_max; ++j) {

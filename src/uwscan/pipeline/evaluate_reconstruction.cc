@@ -20,10 +20,7 @@ std::map<int, Rigid3d> PosesByFrame(const fs::path& tum, const fs::path& frames_
   const auto frames = ReadFramesCsv(frames_csv);
   const auto poses = ReadTum(tum);
   UWS_CHECK(!frames.empty(), frames_csv.string(), ": no frames");
-  double interval = 1.0;
-  if (frames.size() > 1) {
-    interval = (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1);
-  }
+  const double interval = frames.size() > 1 ? MeanFrameInterval(frames) : 1.0;
   std::map<int, Rigid3d> by_frame;
   for (const auto& pose : poses) {
     const auto nearest =

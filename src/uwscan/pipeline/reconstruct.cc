@@ -274,10 +274,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   if (job.oracle_depths)
     report.pose_source += " (feature depths from the simulator's truth: --oracle-depths)";
   report.scan_lines = line_stage.ScanLines();
-  const double frame_interval =
-      frames.size() > 1
-          ? (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1)
-          : 0.0;
+  const double frame_interval = MeanFrameInterval(frames);
   report.sequence_duration_s =
       frames.size() > 1 ? frames.back().timestamp_s - frames.front().timestamp_s + frame_interval
                         : 0.0;

@@ -57,10 +57,8 @@ int ParseTrackEvery(const std::string& value) {
 
 int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
   if (track_every > 0) return track_every;
-  if (frames.size() < 2) return 1;
-  const double interval_s =
-      (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1);
-  if (!(interval_s > 0.0)) return 1;
+  const double interval_s = MeanFrameInterval(frames);
+  if (!(interval_s > 0.0)) return 1;  // fewer than two frames, or no time between them
   const double rate_hz = 1.0 / interval_s;
   return std::max(1,
                   static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxTrackedRateHz - 1e-9)));

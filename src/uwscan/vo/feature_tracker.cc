@@ -95,8 +95,7 @@ bool Inside(const cv::Point2f& p, const cv::Size& size, double border) {
 }  // namespace
 
 void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
-                                          const cv::Size& window,
-                                          const cv::TermCriteria& criteria,
+                                          const cv::Size& window, const cv::TermCriteria& criteria,
                                           std::vector<cv::Point2f>* current,
                                           std::vector<uint8_t>* consistent,
                                           std::vector<uint8_t>* from_prediction) const {
@@ -124,8 +123,8 @@ void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
   const int full = options_.klt_pyramid_levels;
   const int predicted_levels = options_.klt_predicted_levels;
   if (predicted_levels < 0 || predicted_levels >= full) {
-    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error,
-                             window, full, criteria);
+    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error, window,
+                             full, criteria);
     backward(*current, previous, &back, &status_back);
   } else {
     // Each track starts where its last displacement predicts it (a smooth
@@ -136,20 +135,19 @@ void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
     std::vector<cv::Point2f> predicted(n);
     for (size_t i = 0; i < n; ++i) {
       const FeatureTrack& t = tracks_[i];
-      predicted[i] =
-          cv::Point2f(float(t.pixel.x() + t.flow.x()), float(t.pixel.y() + t.flow.y()));
+      predicted[i] = cv::Point2f(float(t.pixel.x() + t.flow.x()), float(t.pixel.y() + t.flow.y()));
     }
     *current = predicted;
-    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error,
-                             window, predicted_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error, window,
+                             predicted_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
     backward(*current, previous, &back, &status_back);
     const double reach = double(1 << predicted_levels) * options_.klt_window_px / 4.0;
     std::vector<size_t> retry;
     for (size_t i = 0; i < n; ++i) {
-      if (!check(i) || cv::norm((*current)[i] - predicted[i]) > reach) retry.push_back(i);
+      const bool again = !check(i) || cv::norm((*current)[i] - predicted[i]) > reach;
+      (*from_prediction)[i] = !again;
+      if (again) retry.push_back(i);
     }
-    from_prediction->assign(n, 1);
-    for (size_t i : retry) (*from_prediction)[i] = 0;
     if (!retry.empty()) {
       std::vector<cv::Point2f> from, to, to_back;
       std::vector<uint8_t> ok, ok_back;
