@@ -86,6 +86,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "poses interpolated between the tracked ones; auto: every frame up to 100 Hz, "
                   "every second at 101-200 Hz, ...")
       ->capture_default_str();
+  cmd->add_option("--contrast-scale", job->self_referenced.contrast_sigma_fraction,
+                  "equalise the tracked image's contrast over a Gaussian of this fraction of its "
+                  "width (the lights travel with the camera; 0 = off)")
+      ->capture_default_str();
   cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
                   "keyframes in the odometry's windowed bundle adjustment")
       ->capture_default_str();

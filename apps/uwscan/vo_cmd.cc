@@ -49,6 +49,10 @@ void RegisterVoCommand(CLI::App& app) {
                  "frames wider than this are tracked at half resolution (raw Bayer: the LED "
                  "colour's own samples, no demosaicking); 0 = full resolution")
       ->capture_default_str();
+  vo->add_option("--contrast-scale", job->contrast_sigma_fraction,
+                 "equalise the tracked image's contrast over a Gaussian of this fraction of its "
+                 "width (the lights travel with the camera; 0 = off)")
+      ->capture_default_str();
   vo->add_option("--ba-time-limit", job->odometry.ba.max_solver_time_s,
                  "seconds one windowed BA may take before it stops unconverged")
       ->capture_default_str();

@@ -90,6 +90,9 @@ grep -q "oracle-depths and --poses exclude each other" "$work/err" || fail "--or
 expect_status 2 "reconstruct --passes 4" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes4" --passes 4 --quiet
 grep -q "passes must be auto, 1, 2 or 3, got '4'" "$work/err" || fail "--passes 4: unclear error"
+expect_status 2 "reconstruct --contrast-scale -1" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.contrast" --contrast-scale -1 --quiet
+grep -q "contrast-scale must be in \[0, 0.5\]" "$work/err" || fail "--contrast-scale -1: unclear error"
 [ ! -e "$work/pods.passes4" ] || fail "--passes 4 created its output folder"
 expect_status 2 "reconstruct --window 2" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.window2" --window 2 --quiet

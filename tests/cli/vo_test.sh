@@ -89,6 +89,10 @@ grep -q "usage error: --window must be at least 3" "$dir/err" || fail "error doe
 "$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --per-cell 0 2>"$dir/err"
 [ $? -eq 2 ] || fail "--per-cell 0: want 2"
 grep -q "usage error: --per-cell must be >= 1" "$dir/err" || fail "error does not name --per-cell"
+"$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --contrast-scale 0.8 2>"$dir/err"
+[ $? -eq 2 ] || fail "--contrast-scale 0.8: want 2"
+grep -q "usage error: --contrast-scale must be in \[0, 0.5\].*got 0.8" "$dir/err" ||
+  fail "error does not name --contrast-scale"
 [ ! -e "$dir/x.tum" ] || fail "a trajectory written after a bad option"
 rm "$dir/bad/groundtruth.tum"
 "$bin" evaluate --dataset "$dir/bad" --trajectory "$dir/b.tum" 2>"$dir/err"

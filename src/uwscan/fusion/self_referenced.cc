@@ -23,6 +23,8 @@ void SelfReferencedOptions::Check() const {
             "initialisation attempts must be at least 1 frame apart, got ", init_attempt_every);
   UWS_CHECK(max_tracking_width >= 0, context,
             "the tracking width must be >= 0 (0 = full resolution), got ", max_tracking_width);
+  UWS_CHECK(contrast_sigma_fraction >= 0 && contrast_sigma_fraction <= 0.5, context,
+            "the contrast scale must be in [0, 0.5] of the width, got ", contrast_sigma_fraction);
   UWS_CHECK(init_refinements >= 0, context, "init refinements must be >= 0, got ",
             init_refinements);
   UWS_CHECK(track_every >= 1, context, "track every N frames needs N >= 1, got ", track_every);
@@ -120,27 +122,55 @@ cv::Mat SelfReferencedPoseProvider::PassiveImage(const cv::Mat& image, const std
   return channel;
 }
 
-cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, double sigma_px) {
+namespace {
+
+// Gaussian blur of a smooth result: on a `factor` times smaller image
+// (block averages, whose own blur is taken off the Gaussian's),
+// interpolated back; a fraction of the work of the full-size blur.
+cv::Mat SmoothBlur(const cv::Mat& value, double sigma_px, int factor) {
+  cv::Mat blurred;
+  if (factor == 1) {
+    cv::GaussianBlur(value, blurred, cv::Size(), sigma_px);
+    return blurred;
+  }
+  cv::Mat small, small_blurred;
+  cv::resize(value, small, cv::Size(), 1.0 / factor, 1.0 / factor, cv::INTER_AREA);
+  const double block_variance = (factor * factor - 1) / 12.0;
+  const double sigma_small = std::sqrt(sigma_px * sigma_px - block_variance) / factor;
+  cv::GaussianBlur(small, small_blurred, cv::Size(), sigma_small, 0.0, cv::BORDER_REFLECT);
+  cv::resize(small_blurred, blurred, value.size(), 0, 0, cv::INTER_LINEAR);
+  return blurred;
+}
+
+}  // namespace
+
+cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, double sigma_px,
+                                                          double contrast_sigma_px) {
   // The lights travel with the camera, so the scene's shading moves across
   // the image from frame to frame and pulls Lucas-Kanade off the texture.
   // Subtracting the local mean (a high pass) keeps the texture only.
-  cv::Mat value, background, result;
+  cv::Mat value, result;
   image.convertTo(value, CV_32F, image.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
-  // The mean is smooth: blur a 4x smaller image (block averages, whose own
-  // blur is taken off the Gaussian's) and interpolate it back, a tenth of
-  // the work of the full-size blur.
-  const int factor = sigma_px >= 4.0 && image.cols >= 64 && image.rows >= 64 ? 4 : 1;
-  if (factor == 1) {
-    cv::GaussianBlur(value, background, cv::Size(), sigma_px);
-  } else {
-    cv::Mat small, small_background;
-    cv::resize(value, small, cv::Size(), 1.0 / factor, 1.0 / factor, cv::INTER_AREA);
-    const double block_variance = (factor * factor - 1) / 12.0;
-    const double sigma_small = std::sqrt(sigma_px * sigma_px - block_variance) / factor;
-    cv::GaussianBlur(small, small_background, cv::Size(), sigma_small, 0.0, cv::BORDER_REFLECT);
-    cv::resize(small_background, background, value.size(), 0, 0, cv::INTER_LINEAR);
+  const bool big = image.cols >= 64 && image.rows >= 64;
+  cv::Mat texture = value - SmoothBlur(value, sigma_px, sigma_px >= 4.0 && big ? 4 : 1);
+  if (contrast_sigma_px > 0) {
+    // The light also scales the texture's contrast, and that scale moves
+    // across the image with the camera too: a feature brightening as it
+    // moves is pulled along the light's gradient. Equalise the contrast to
+    // the image's own (local RMS over contrast_sigma_px), within 1/4..4x,
+    // so that a textureless frame gains no texture.
+    const cv::Mat energy = SmoothBlur(texture.mul(texture), contrast_sigma_px,
+                                      contrast_sigma_px >= 16.0 && big ? 8 : 1);
+    const double global = std::sqrt(cv::mean(energy)[0]);
+    if (global > 0) {
+      cv::Mat gain;
+      cv::sqrt(cv::max(energy, global * global / 16.0), gain);
+      cv::divide(global, gain, gain);
+      gain = cv::max(cv::min(gain, 4.0), 0.25);
+      texture = texture.mul(gain);
+    }
   }
-  cv::Mat high_pass = (value - background) * 4.0 + 128.0;
+  cv::Mat high_pass = texture * 4.0 + 128.0;
   high_pass.convertTo(result, CV_8U);
   return result;
 }
@@ -186,7 +216,8 @@ PreparedFrame SelfReferencedPoseProvider::MakePrepared(const cv::Mat& raw, const
   const cv::Size tracked(tracking.width, tracking.height);
   prepared.image = NormalizeIllumination(
       TrackedPassiveImage(raw, camera_.bayer, laser_channel_, bayer_offset, tracked),
-      options_.illumination_sigma_fraction * tracking.width);
+      options_.illumination_sigma_fraction * tracking.width,
+      options_.contrast_sigma_fraction * tracking.width);
   if (line_mask) {
     prepared.has_mask = true;
     prepared.mask = TrackedLineMask(*line_mask, tracked);

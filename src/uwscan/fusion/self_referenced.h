@@ -54,6 +54,11 @@ struct SelfReferencedOptions {
   int max_tracking_width = 640;
   int mask_dilation_px = 4;  // around the detected line (halo, blur), full-resolution px
   double illumination_sigma_fraction = 0.01;  // high-pass scale, of the image width
+  // Contrast equalised over a Gaussian of this fraction of the tracked
+  // width (NormalizeIllumination); 0 = off. Off here: on the tank hovers
+  // and hulls it changed nothing consistently (`uwscan vo` has it on:
+  // transects move the texture through the light's whole fall-off).
+  double contrast_sigma_fraction = 0.0;
   // A pose that moves faster than a vehicle can is not believed: the frame
   // gets no pose and the map restarts from the last believed one.
   double max_rotation_rate_deg_s = 720.0;
@@ -123,8 +128,10 @@ class SelfReferencedPoseProvider : public PoseProvider {
     return laser_channel == laser::kRed ? laser::kBlue : laser::kRed;
   }
   // 8-bit high pass of the passive image (local mean removed, Gaussian of
-  // `sigma_px`), so that lights moving with the camera do not bias tracking.
-  static cv::Mat NormalizeIllumination(const cv::Mat& image, double sigma_px);
+  // `sigma_px`) with its contrast equalised over `contrast_sigma_px` (0:
+  // not), so that lights moving with the camera do not bias tracking.
+  static cv::Mat NormalizeIllumination(const cv::Mat& image, double sigma_px,
+                                       double contrast_sigma_px = 0.0);
   // Where a colour (laser::kRed or kBlue) sits in each 2x2 cell of a raw
   // mosaic named like rig.yaml's `bayer` (rggb ...): column, row; none for
   // green (two samples per cell) or "none".

@@ -414,5 +414,50 @@ TEST(SelfReferencedPoseProvider, FastIlluminationNormalisationMatchesFullGaussia
   EXPECT_LT(cv::mean(difference)[0], 0.3);
 }
 
+// The LED's fall-off scales the texture's contrast across the image (4x
+// here); equalising it over a wide Gaussian makes the local contrast even,
+// and a frame with no texture (noise only) gains none.
+TEST(SelfReferencedPoseProvider, ContrastEqualisationEvensOutTheLightsFallOff) {
+  cv::Mat texture(240, 320, CV_32F);
+  cv::RNG rng(3);
+  rng.fill(texture, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::GaussianBlur(texture, texture, cv::Size(), 1.5);
+  texture *= 1.0 / std::sqrt(cv::mean(texture.mul(texture))[0]);
+  cv::Mat image(texture.size(), CV_8U);
+  for (int r = 0; r < image.rows; ++r) {
+    for (int c = 0; c < image.cols; ++c) {
+      const double light = 40.0 + 120.0 * c / (image.cols - 1.0);  // 40 .. 160
+      image.at<uint8_t>(r, c) =
+          cv::saturate_cast<uint8_t>(light * (1.0 + 0.08 * texture.at<float>(r, c)));
+    }
+  }
+  const double width = image.cols;
+  auto local_rms = [](const cv::Mat& out, int x0) {
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(out(cv::Rect(x0, 40, 60, 160)), mean, stddev);
+    return stddev[0];
+  };
+  const cv::Mat plain = SelfReferencedPoseProvider::NormalizeIllumination(image, 0.01 * width);
+  const cv::Mat even =
+      SelfReferencedPoseProvider::NormalizeIllumination(image, 0.01 * width, 0.05 * width);
+  EXPECT_GT(local_rms(plain, 250) / local_rms(plain, 10), 2.4);  // the fall-off is there
+  EXPECT_NEAR(local_rms(even, 250) / local_rms(even, 10), 1.0, 0.15);
+  // Across the middle the equalised contrast is the image's own, not a new scale.
+  EXPECT_NEAR(local_rms(even, 130) / local_rms(plain, 130), 1.0, 0.3);
+
+  cv::Mat flat(240, 320, CV_8U);
+  rng.fill(flat, cv::RNG::NORMAL, 100.0, 1.0);
+  cv::Scalar mean, plain_sd, even_sd;
+  cv::meanStdDev(SelfReferencedPoseProvider::NormalizeIllumination(flat, 3.2), mean, plain_sd);
+  cv::meanStdDev(SelfReferencedPoseProvider::NormalizeIllumination(flat, 3.2, 16.0), mean,
+                 even_sd);
+  EXPECT_LT(even_sd[0], 1.2 * plain_sd[0]);
+  // A black frame stays black.
+  const cv::Mat black(240, 320, CV_8U, cv::Scalar(0));
+  cv::meanStdDev(SelfReferencedPoseProvider::NormalizeIllumination(black, 3.2, 16.0), mean,
+                 even_sd);
+  EXPECT_EQ(even_sd[0], 0.0);
+}
+
 }  // namespace
 }  // namespace uwscan::fusion

@@ -22,6 +22,7 @@ void ReconstructJob::Check() const {
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
   CheckOdometryFlags(self_referenced.odometry);
+  CheckContrastScale(self_referenced.contrast_sigma_fraction);
   if (self_referenced.smoothing_half_window < 0) {
     throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses), got " +
                      std::to_string(self_referenced.smoothing_half_window));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <fmt/format.h>
 #include <map>
 #include <opencv2/imgproc.hpp>
 
@@ -48,8 +49,16 @@ void VoJob::Check() const {
   if (!(pinhole_fit_depth_m > 0)) throw UsageError("--pinhole-fit-depth must be > 0");
   if (mask_margin_px < 0) throw UsageError("--mask-margin must be >= 0");
   if (max_tracking_width < 0) throw UsageError("--max-tracking-width must be >= 0");
+  CheckContrastScale(contrast_sigma_fraction);
   CheckOdometryFlags(odometry);
   odometry.Check();
+}
+
+void CheckContrastScale(double fraction) {
+  if (!(fraction >= 0 && fraction <= 0.5)) {
+    throw UsageError("--contrast-scale must be in [0, 0.5] (a fraction of the image width), got " +
+                     fmt::format("{}", fraction));
+  }
 }
 
 void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
@@ -119,7 +128,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   summary.tracked_image = (bayer_offset ? std::string(passive_rgb == laser::kRed ? "red" : "blue") +
                                               " samples of the raw mosaic"
                                         : std::string("passive colour")) +
-                          ", " + std::to_string(camera.width) + "x" + std::to_string(camera.height);
+                          ", " + std::to_string(camera.width) + "x" + std::to_string(camera.height)
+                          + (job.contrast_sigma_fraction > 0 ? ", contrast equalised" : "");
   std::map<int, StampedPose> poses;  // by position in frames.csv
   std::vector<vo::FrameResult> results;
   std::vector<std::string> status_lines;
@@ -168,7 +178,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
         tracking = Tracking::NormalizeIllumination(
             Tracking::TrackedPassiveImage(raw, rig_camera.bayer, detector.laser_channel,
                                           bayer_offset, tracked_size),
-            0.01 * camera.width);
+            0.01 * camera.width, job.contrast_sigma_fraction * camera.width);
       }
       mask = Tracking::TrackedMask(mask, tracked_size);
     } else if (!raw.empty() && halvings > 0) {
@@ -181,7 +191,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       tracking = fusion::SelfReferencedPoseProvider::NormalizeIllumination(
           fusion::SelfReferencedPoseProvider::PassiveImage(raw, rig_camera.bayer,
                                                            detector.laser_channel),
-          0.01 * rig_camera.width);
+          0.01 * rig_camera.width, job.contrast_sigma_fraction * rig_camera.width);
     }
     vo::FrameResult result = odometry.ProcessFrame(tracking, mask, entry.timestamp_s);
     summary.vo_s += result.total_time_s;

@@ -30,6 +30,13 @@ struct VoJob {
   // a raw Bayer frame through the passive colour's own samples (no
   // demosaicking), as the self-referenced scan does. 0: full resolution.
   int max_tracking_width = 640;
+  // The tracked image's contrast equalised over a Gaussian of this fraction
+  // of its width (fusion::SelfReferencedPoseProvider::NormalizeIllumination;
+  // 0 = off). The LED travels with the camera and its fall-off scales the
+  // texture's contrast; tracks drift with it. On 20 m simulated transects
+  // the odometry then bent the track by a steady 0.15-0.2 deg/m in pitch;
+  // equalised, ATE went 39-67 -> 10-17 mm in clear water (BENCHMARKS.md).
+  double contrast_sigma_fraction = 0.05;
   bool quiet = false;
   // A 14-keyframe window instead of the library's 7: on 20 m transects in
   // coastal water the drift went from 1.15-1.68 % to 0.73-1.51 % (seven
@@ -48,6 +55,8 @@ struct VoJob {
 // `--initial-depth`; `uwscan vo` and `uwscan reconstruct` share some):
 // throws UsageError naming the flag.
 void CheckOdometryFlags(const vo::OdometryOptions& odometry);
+// `--contrast-scale`: in [0, 0.5]; throws UsageError.
+void CheckContrastScale(double fraction);
 
 struct VoRunSummary {
   int frames = 0, posed = 0, tracked = 0, lost = 0, invalid = 0, reinitialised = 0;

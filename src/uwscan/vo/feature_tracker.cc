@@ -1,6 +1,7 @@
 #include "uwscan/vo/feature_tracker.h"
 
 #include <algorithm>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <unordered_set>
@@ -86,6 +87,37 @@ double PatchCorrelation(const cv::Mat& A, const cv::Point2f& a, const cv::Mat& B
   cv::matchTemplate(pa, pb, result, cv::TM_CCOEFF_NORMED);
   return double(result.at<float>(0, 0));
 }
+
+// The median displacement (per axis) of the `neighbours` nearest of the
+// points that moved from `from` to `to`: the flow is smooth over a few tens
+// of pixels. None with fewer than 3 points.
+class NeighbourFlow {
+ public:
+  NeighbourFlow(const std::vector<Eigen::Vector2d>& from, const std::vector<Eigen::Vector2d>& to,
+                int neighbours)
+      : from_(from), to_(to), k_(std::min(from.size(), size_t(neighbours))),
+        nearest_(from.size()), dx_(k_), dy_(k_) {}
+  std::optional<Eigen::Vector2d> At(const Eigen::Vector2d& p) {
+    if (k_ < 3) return std::nullopt;
+    for (size_t j = 0; j < from_.size(); ++j) nearest_[j] = {(from_[j] - p).squaredNorm(), j};
+    std::partial_sort(nearest_.begin(), nearest_.begin() + std::ptrdiff_t(k_), nearest_.end());
+    for (size_t n = 0; n < k_; ++n) {
+      const Eigen::Vector2d f = to_[nearest_[n].second] - from_[nearest_[n].second];
+      dx_[n] = f.x();
+      dy_[n] = f.y();
+    }
+    std::nth_element(dx_.begin(), dx_.begin() + std::ptrdiff_t(k_ / 2), dx_.end());
+    std::nth_element(dy_.begin(), dy_.begin() + std::ptrdiff_t(k_ / 2), dy_.end());
+    return Eigen::Vector2d(dx_[k_ / 2], dy_[k_ / 2]);
+  }
+
+ private:
+  const std::vector<Eigen::Vector2d>& from_;
+  const std::vector<Eigen::Vector2d>& to_;
+  size_t k_;
+  std::vector<std::pair<double, size_t>> nearest_;
+  std::vector<double> dx_, dy_;
+};
 
 bool Inside(const cv::Point2f& p, const cv::Size& size, double border) {
   return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= border && p.y >= border &&
@@ -248,24 +280,12 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
                                const std::vector<Eigen::Vector2d>& flow_to, TrackingStats* stats) {
   // Carry each dormant position with the median flow of its nearest live
   // neighbours (the flow is smooth over a few tens of pixels), age them.
-  const size_t k = std::min(flow_from.size(), size_t(options_.reacquire_neighbours));
-  std::vector<std::pair<double, size_t>> nearest(flow_from.size());
-  std::vector<double> dx(k), dy(k);
+  NeighbourFlow flow(flow_from, flow_to, options_.reacquire_neighbours);
   for (DormantTrack& d : dormant_) {
     ++d.frames;
-    if (k < 3) continue;  // no flow to carry it: it stays where it was
-    for (size_t j = 0; j < flow_from.size(); ++j) {
-      nearest[j] = {(flow_from[j] - d.track.pixel).squaredNorm(), j};
-    }
-    std::partial_sort(nearest.begin(), nearest.begin() + std::ptrdiff_t(k), nearest.end());
-    for (size_t n = 0; n < k; ++n) {
-      const Eigen::Vector2d f = flow_to[nearest[n].second] - flow_from[nearest[n].second];
-      dx[n] = f.x();
-      dy[n] = f.y();
-    }
-    std::nth_element(dx.begin(), dx.begin() + std::ptrdiff_t(k / 2), dx.end());
-    std::nth_element(dy.begin(), dy.begin() + std::ptrdiff_t(k / 2), dy.end());
-    d.track.flow = Eigen::Vector2d(dx[k / 2], dy[k / 2]);
+    const auto f = flow.At(d.track.pixel);
+    if (!f) continue;  // no flow to carry it: it stays where it was
+    d.track.flow = *f;
     d.track.pixel += d.track.flow;
   }
   const cv::Size size = pyramid.front().size();
@@ -468,6 +488,24 @@ int FeatureTracker::Detect(const cv::Mat& mask, TrackingStats* stats) {
         ++taken;
       }
       detected += taken;
+    }
+  }
+  // A new feature has no displacement of its own yet: it is predicted to
+  // move as its neighbours did (at 10 px a frame, from its own position KLT
+  // finds a wrong match for one new feature in six that the
+  // forward-backward check does not catch).
+  if (detected > 0) {
+    const size_t live = tracks_.size() - size_t(detected);
+    std::vector<Eigen::Vector2d> now, next;  // the live tracks, and where their flow takes them
+    now.reserve(live);
+    next.reserve(live);
+    for (size_t i = 0; i < live; ++i) {
+      now.push_back(tracks_[i].pixel);
+      next.push_back(tracks_[i].pixel + tracks_[i].flow);
+    }
+    NeighbourFlow flow(now, next, options_.reacquire_neighbours);
+    for (size_t i = live; i < tracks_.size(); ++i) {
+      if (const auto f = flow.At(tracks_[i].pixel)) tracks_[i].flow = *f;
     }
   }
   if (stats != nullptr) stats->detected += detected;

@@ -107,6 +107,46 @@ TEST_F(FeatureTrackerTest, PredictedTrackingFollowsSmoothMotionAndFallsBackOnAJu
   EXPECT_LT(predicted.jump_errors[predicted.jump_errors.size() * 95 / 100], 0.3);
 }
 
+// A feature detected while the image moves fast (a transect, ~10 px a
+// frame here) starts from where its neighbours' flow predicts it, not from
+// where it was seen: from there KLT at full resolution alone finds it, and
+// no new feature lands on a wrong match.
+TEST_F(FeatureTrackerTest, NewFeaturesStartFromTheirNeighboursFlow) {
+  auto pose = [](int k) { return testing::DownwardPose({0.08 * k, 0.01 * k, 2.0}, 0.0, 0.01); };
+  FeatureTracker tracker;  // tracks from predicted positions (the default)
+  tracker.Track(renderer_.Render(pose(0)), cv::Mat());
+  tracker.Detect(cv::Mat());
+  tracker.Track(renderer_.Render(pose(1)), cv::Mat());
+  // Room for new features: drop every second track.
+  std::vector<uint64_t> drop;
+  for (size_t i = 0; i < tracker.tracks().size(); i += 2) drop.push_back(tracker.tracks()[i].id);
+  tracker.RemoveTracks(drop);
+  const size_t live = tracker.tracks().size();
+  const int detected = tracker.Detect(cv::Mat());
+  ASSERT_GT(detected, 30);
+  const std::vector<FeatureTrack> before = tracker.tracks();
+  for (size_t i = live; i < before.size(); ++i) {
+    EXPECT_GT(before[i].flow.norm(), 5.0) << "a new feature without a predicted motion";
+  }
+  const TrackingStats stats = tracker.Track(renderer_.Render(pose(2)), cv::Mat());
+  int new_tracked = 0, wrong = 0;
+  for (const FeatureTrack& t : tracker.tracks()) {
+    const auto it = std::find_if(before.begin(), before.end(),
+                                 [&](const FeatureTrack& b) { return b.id == t.id; });
+    ASSERT_NE(it, before.end());
+    if (it - before.begin() < std::ptrdiff_t(live)) continue;
+    const auto point = renderer_.PointAt(pose(1), it->pixel);
+    ASSERT_TRUE(point.has_value());
+    const auto expected = camera_.Project(pose(2).Inverse() * *point);
+    ASSERT_TRUE(expected.has_value());
+    ++new_tracked;
+    wrong += (*expected - t.pixel).norm() > 0.5;
+  }
+  EXPECT_GT(new_tracked, detected * 3 / 4);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(stats.predicted, stats.tracked * 9 / 10);
+}
+
 TEST_F(FeatureTrackerTest, HonoursTheMask) {
   testing::RenderOptions render;
   render.laser_column_px = 120;
