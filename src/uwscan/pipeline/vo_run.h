@@ -35,7 +35,8 @@ struct VoJob {
   // 0 = off). The LED travels with the camera and its fall-off scales the
   // texture's contrast; tracks drift with it. On 20 m simulated transects
   // the odometry then bent the track by a steady 0.15-0.2 deg/m in pitch;
-  // equalised, ATE went 39-67 -> 10-17 mm in clear water (BENCHMARKS.md).
+  // equalised, ATE went 32-67 -> 9-19 mm in clear water (BENCHMARKS.md,
+  // "Contrast equalised").
   double contrast_sigma_fraction = 0.05;
   bool quiet = false;
   // A 14-keyframe window instead of the library's 7: on 20 m transects in
