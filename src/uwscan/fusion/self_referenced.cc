@@ -124,22 +124,29 @@ cv::Mat SelfReferencedPoseProvider::PassiveImage(const cv::Mat& image, const std
 
 namespace {
 
-// Gaussian blur of a smooth result: on a `factor` times smaller image
-// (block averages, whose own blur is taken off the Gaussian's),
-// interpolated back; a fraction of the work of the full-size blur.
-cv::Mat SmoothBlur(const cv::Mat& value, double sigma_px, int factor) {
+// Gaussian blur for a smooth result, on a `factor` times smaller image
+// (block averages, whose own blur is taken off the Gaussian's): a fraction
+// of the work of the full-size blur. Returns the small image.
+cv::Mat BlurredSmall(const cv::Mat& value, double sigma_px, int factor) {
   cv::Mat blurred;
   if (factor == 1) {
     cv::GaussianBlur(value, blurred, cv::Size(), sigma_px);
     return blurred;
   }
-  cv::Mat small, small_blurred;
+  cv::Mat small;
   cv::resize(value, small, cv::Size(), 1.0 / factor, 1.0 / factor, cv::INTER_AREA);
   const double block_variance = (factor * factor - 1) / 12.0;
   const double sigma_small = std::sqrt(sigma_px * sigma_px - block_variance) / factor;
-  cv::GaussianBlur(small, small_blurred, cv::Size(), sigma_small, 0.0, cv::BORDER_REFLECT);
-  cv::resize(small_blurred, blurred, value.size(), 0, 0, cv::INTER_LINEAR);
+  cv::GaussianBlur(small, blurred, cv::Size(), sigma_small, 0.0, cv::BORDER_REFLECT);
   return blurred;
+}
+
+// A small smooth image interpolated back to `size`.
+cv::Mat Upsampled(const cv::Mat& small, const cv::Size& size) {
+  if (small.size() == size) return small;
+  cv::Mat result;
+  cv::resize(small, result, size, 0, 0, cv::INTER_LINEAR);
+  return result;
 }
 
 }  // namespace
@@ -152,7 +159,8 @@ cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, 
   cv::Mat value, result;
   image.convertTo(value, CV_32F, image.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
   const bool big = image.cols >= 64 && image.rows >= 64;
-  cv::Mat texture = value - SmoothBlur(value, sigma_px, sigma_px >= 4.0 && big ? 4 : 1);
+  cv::Mat texture =
+      value - Upsampled(BlurredSmall(value, sigma_px, sigma_px >= 4.0 && big ? 4 : 1), value.size());
   if (contrast_sigma_px > 0) {
     // The light also scales the texture's contrast, and that scale moves
     // across the image with the camera too. On the simulator's transects
@@ -160,15 +168,17 @@ cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, 
     // px equalised) and the odometry pitched steadily. Equalise the
     // contrast to the image's own (local RMS over contrast_sigma_px),
     // within 1/4..4x, so that a textureless frame gains no texture.
-    const cv::Mat energy = SmoothBlur(texture.mul(texture), contrast_sigma_px,
-                                      contrast_sigma_px >= 16.0 && big ? 8 : 1);
+    // The gain is smooth: computed on the small image the local RMS is
+    // blurred on, then interpolated back (a fifth of the work).
+    const cv::Mat energy = BlurredSmall(texture.mul(texture), contrast_sigma_px,
+                                        contrast_sigma_px >= 16.0 && big ? 8 : 1);
     const double global = std::sqrt(cv::mean(energy)[0]);
     if (global > 0) {
       cv::Mat gain;
       cv::sqrt(cv::max(energy, global * global / 16.0), gain);
       cv::divide(global, gain, gain);
       gain = cv::max(cv::min(gain, 4.0), 0.25);
-      texture = texture.mul(gain);
+      texture = texture.mul(Upsampled(gain, texture.size()));
     }
   }
   cv::Mat high_pass = texture * 4.0 + 128.0;
