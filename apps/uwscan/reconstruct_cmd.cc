@@ -93,6 +93,9 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
                   "keyframes in the odometry's windowed bundle adjustment")
       ->capture_default_str();
+  cmd->add_option("--ba-history", job->self_referenced.odometry.ba.history_keyframes,
+                  "keyframes before the window whose rays of its points enter the BA, held")
+      ->capture_default_str();
   cmd->add_option("--smoothing-half-window", job->self_referenced.smoothing_half_window,
                   "poses smoothed over +-N frames (quadratic fit), output N frames late (0 = raw)")
       ->capture_default_str();

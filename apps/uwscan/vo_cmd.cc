@@ -31,10 +31,16 @@ void RegisterVoCommand(CLI::App& app) {
                  "--model pinhole: depth (m) of the plane the pinhole is fitted on")
       ->capture_default_str();
   vo->add_flag("--mask-laser", job->mask_laser, "detect the laser line and ignore its pixels");
+  vo->add_option("--mask-margin", job->mask_margin_px,
+                 "--mask-laser: pixels ignored on each side of the detected line")
+      ->capture_default_str();
   vo->add_option("--initial-depth", job->odometry.initial_median_depth_m,
                  "expected median scene distance at the start (m): the scale prior")
       ->capture_default_str();
   vo->add_option("--window", job->odometry.ba.window_size, "keyframes in the windowed BA")
+      ->capture_default_str();
+  vo->add_option("--ba-history", job->odometry.ba.history_keyframes,
+                 "keyframes before the window whose rays of its points enter the BA, held")
       ->capture_default_str();
   vo->add_option("--klt-window", job->odometry.tracker.klt_window_px, "KLT window (px, odd)")
       ->capture_default_str();

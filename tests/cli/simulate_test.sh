@@ -102,6 +102,10 @@ expect_status 2 "reconstruct --smoothing-half-window -1" "$uwscan" reconstruct \
   --dataset "$work/pods" --out "$work/pods.smooth" --smoothing-half-window -1 --quiet
 grep -q "smoothing-half-window must be >= 0" "$work/err" || fail "--smoothing-half-window -1: unclear error"
 [ ! -e "$work/pods.smooth" ] || fail "--smoothing-half-window -1 created its output folder"
+expect_status 2 "reconstruct --ba-history -1" "$uwscan" reconstruct \
+  --dataset "$work/pods" --out "$work/pods.history" --ba-history -1 --quiet
+grep -q "ba-history must be >= 0" "$work/err" || fail "--ba-history -1: unclear error"
+[ ! -e "$work/pods.history" ] || fail "--ba-history -1 created its output folder"
 expect_status 2 "reconstruct --passes 2 --poses" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes2" --passes 2 --poses "$work/pods/groundtruth.tum" --quiet
 grep -q "passes 2 and --poses exclude each other" "$work/err" || fail "--passes 2 --poses: unclear error"

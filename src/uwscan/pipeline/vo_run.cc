@@ -71,6 +71,9 @@ void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
   if (!(ba.max_solver_time_s > 0) || !std::isfinite(ba.max_solver_time_s))
     throw UsageError("--ba-time-limit must be > 0 seconds");
   if (ba.max_iterations < 1) throw UsageError("--ba-iterations must be >= 1");
+  if (ba.history_keyframes < 0) {
+    throw UsageError("--ba-history must be >= 0, got " + std::to_string(ba.history_keyframes));
+  }
   const vo::FeatureTrackerOptions& tracker = odometry.tracker;
   if (tracker.klt_window_px < 5 || tracker.klt_window_px % 2 == 0) {
     throw UsageError("--klt-window must be odd and >= 5, got " +

@@ -14,6 +14,7 @@ void BundleAdjustmentOptions::Check() const {
   UWS_CHECK(num_fixed_keyframes >= 1 && num_fixed_keyframes < window_size,
             "num_fixed_keyframes must be in [1, window_size)");
   UWS_CHECK(num_fixed_keyframes_with_ranges >= 1, "num_fixed_keyframes_with_ranges must be >= 1");
+  UWS_CHECK(history_keyframes >= 0, "history_keyframes must be >= 0");
   UWS_CHECK(taylor_iterations >= 1, "taylor_iterations must be >= 1");
   UWS_CHECK(sigma_px > 0 && huber_px > 0 && outlier_px > 0, "sigma/huber/outlier must be > 0");
   UWS_CHECK(max_iterations >= 1, "max_iterations must be >= 1");
@@ -85,6 +86,31 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
                                    options.sigma_px),
           loss, pose.q, pose.t, point);
       residual_refs.push_back({id, point_id, k});
+    }
+  }
+  // Keyframes before the window, held: their rays of the window's points.
+  const int history = two_view_init ? 0 : std::min(options.history_keyframes, first);
+  std::vector<PoseBlock> held(static_cast<size_t>(history));
+  std::vector<ResidualRef> history_refs;
+  for (int h = 0; h < history; ++h) {
+    Keyframe& kf = map->keyframes[size_t(first - history + h)];
+    const Eigen::Quaterniond& q = kf.camera_from_world.rotation;
+    PoseBlock& pose = held[size_t(h)];
+    pose = {{q.x(), q.y(), q.z(), q.w()},
+            {kf.camera_from_world.translation.x(), kf.camera_from_world.translation.y(),
+             kf.camera_from_world.translation.z()}};
+    for (const auto& [point_id, pixel] : kf.observations) {
+      const auto it = window.points.find(point_id);
+      if (it == window.points.end()) continue;
+      const ceres::ResidualBlockId id = problem.AddResidualBlock(
+          ReprojectionCost::Create(params, options.method, options.taylor_iterations, pixel,
+                                   options.sigma_px),
+          loss, pose.q, pose.t, it->second);
+      history_refs.push_back({id, point_id, h - history});  // before the window
+    }
+    if (problem.HasParameterBlock(pose.q)) {
+      problem.SetParameterBlockConstant(pose.q);
+      problem.SetParameterBlockConstant(pose.t);
     }
   }
   // Range constraints only on points some keyframe of the window sees: a
@@ -175,17 +201,24 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
                                    Eigen::Vector3d(pose.t[0], pose.t[1], pose.t[2]));
   }
   // Outliers: drop observations whose re-projection error stays large.
-  for (const ResidualRef& ref : residual_refs) {
+  auto error_px = [&](ceres::ResidualBlockId id) {
     double residual[2];
     std::vector<double*> blocks;
-    problem.GetParameterBlocksForResidualBlock(ref.id, &blocks);
+    problem.GetParameterBlocksForResidualBlock(id, &blocks);
     const bool ok =
-        problem.GetCostFunctionForResidualBlock(ref.id)->Evaluate(blocks.data(), residual, nullptr);
-    const double error = ok ? std::hypot(residual[0], residual[1]) * options.sigma_px : 1e9;
-    if (error <= options.outlier_px) continue;
+        problem.GetCostFunctionForResidualBlock(id)->Evaluate(blocks.data(), residual, nullptr);
+    return ok ? std::hypot(residual[0], residual[1]) * options.sigma_px : 1e9;
+  };
+  for (const ResidualRef& ref : residual_refs) {
+    if (error_px(ref.id) <= options.outlier_px) continue;
     Keyframe& kf = map->keyframes[size_t(first + ref.keyframe)];
     kf.observations.erase(ref.point_id);
     if (ref.keyframe == count - 1) summary.removed_observations.push_back(ref.point_id);
+  }
+  for (const ResidualRef& ref : history_refs) {
+    if (error_px(ref.id) > options.outlier_px) {
+      map->keyframes[size_t(first + ref.keyframe)].observations.erase(ref.point_id);
+    }
   }
   // Range constraints that stay far off after the solve are wrong (§5.4).
   for (const ResidualRef& ref : range_refs) {

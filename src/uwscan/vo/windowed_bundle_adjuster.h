@@ -32,6 +32,11 @@ struct BundleAdjustmentOptions {
   int window_size = 7;
   int num_fixed_keyframes = 2;              // oldest keyframes of the window held fixed
   int num_fixed_keyframes_with_ranges = 1;  // when range constraints fix the scale
+  // Keyframes just before the window whose observations of the window's
+  // points enter the solve with their poses held (as the covisible keyframes
+  // outside ORB-SLAM's local BA): a point keeps the rays that placed it
+  // after the keyframes that saw it first have left the window.
+  int history_keyframes = 7;
   ProjectionMethod method = ProjectionMethod::kExact;
   int taylor_iterations = 2;
   double sigma_px = 1.0;

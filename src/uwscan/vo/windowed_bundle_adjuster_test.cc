@@ -318,9 +318,44 @@ TEST(WindowedBundleAdjustment, ExtraResidualCallbackSeesTheWindow) {
     EXPECT_TRUE(problem.HasParameterBlock(window.keyframes.at(4).rotation));
     EXPECT_EQ(window.keyframes.count(1), 0u);  // outside the window
   };
+  options.history_keyframes = 0;
   AdjustWindow(camera, options, &s.map);
   EXPECT_EQ(keyframes, 3u);
   EXPECT_GT(points, 100u);
+}
+
+// Keyframes before the window enter with their poses held: the points keep
+// the rays of the wider baseline, the held poses do not move, and a held
+// observation that stays far off is dropped like any other.
+TEST(WindowedBundleAdjustment, HeldKeyframesBeforeTheWindowKeepThePointsRays) {
+  const Camera camera = DeepPortCamera();
+  auto mean_point_error = [](const Synthetic& s) {
+    double sum = 0;
+    for (const auto& [id, p] : s.map.points) sum += (p.position_world - s.points.at(id)).norm();
+    return sum / double(s.map.points.size());
+  };
+  BundleAdjustmentOptions options;
+  options.window_size = 3;  // keyframes 2-4; 2 and 3 fixed
+  options.max_iterations = 50;
+  options.max_solver_time_s = 10;
+  options.history_keyframes = 0;
+  Synthetic alone = MakeWindow(camera, 0.5, 11);
+  AdjustWindow(camera, options, &alone.map);
+  options.history_keyframes = 2;  // keyframes 0 and 1
+  Synthetic held = MakeWindow(camera, 0.5, 11);
+  const uint64_t wrong = held.map.keyframes[0].observations.begin()->first;
+  held.map.keyframes[0].observations[wrong] += Eigen::Vector2d(25.0, 0.0);
+  const Rigid3d kf0 = held.map.keyframes[0].camera_from_world;
+  const Rigid3d kf1 = held.map.keyframes[1].camera_from_world;
+  AdjustWindow(camera, options, &held.map);
+  std::printf("mean point error: window alone %.2f mm, with the held keyframes %.2f mm\n",
+              1e3 * mean_point_error(alone), 1e3 * mean_point_error(held));
+  EXPECT_LT(mean_point_error(held), 0.7 * mean_point_error(alone));
+  EXPECT_EQ(held.map.keyframes[0].camera_from_world.translation, kf0.translation);
+  EXPECT_EQ(held.map.keyframes[0].camera_from_world.rotation.coeffs(), kf0.rotation.coeffs());
+  EXPECT_EQ(held.map.keyframes[1].camera_from_world.translation, kf1.translation);
+  EXPECT_EQ(held.map.keyframes[0].observations.count(wrong), 0u);
+  EXPECT_GT(held.map.keyframes[0].observations.size(), 100u);
 }
 
 }  // namespace
