@@ -43,6 +43,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto keep_albedo_edges = std::make_shared<bool>(false);
   auto passes = std::make_shared<std::string>("auto");
   auto track_every = std::make_shared<std::string>("auto");
+  auto contrast_scale = std::make_shared<std::string>("auto");
   auto main_camera_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
       "reconstruct",
@@ -86,9 +87,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "poses interpolated between the tracked ones; auto: every frame up to 100 Hz, "
                   "every second at 101-200 Hz, ...")
       ->capture_default_str();
-  cmd->add_option("--contrast-scale", job->self_referenced.contrast_sigma_fraction,
+  cmd->add_option("--contrast-scale", *contrast_scale,
                   "equalise the tracked image's contrast over a Gaussian of this fraction of its "
-                  "width (the lights travel with the camera; 0 = off)")
+                  "width (the lights travel with the camera; 0 = off); auto: 0.05 with a fixed "
+                  "laser (the platform's motion scans), 0 on servo sweeps (hovering)")
       ->capture_default_str();
   cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
                   "keyframes in the odometry's windowed bundle adjustment")
@@ -153,6 +155,7 @@ void RegisterReconstructCommand(CLI::App& app) {
       throw UsageError("--passes must be auto, 1, 2 or 3, got '" + *passes + "'");
     }
     job->track_every = ParseTrackEvery(*track_every);
+    job->contrast_scale = ParseContrastScale(*contrast_scale);
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
       std::fprintf(stderr,

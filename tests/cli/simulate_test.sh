@@ -93,6 +93,11 @@ grep -q "passes must be auto, 1, 2 or 3, got '4'" "$work/err" || fail "--passes 
 expect_status 2 "reconstruct --contrast-scale -1" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.contrast" --contrast-scale -1 --quiet
 grep -q "contrast-scale must be in \[0, 0.5\]" "$work/err" || fail "--contrast-scale -1: unclear error"
+expect_status 2 "reconstruct --contrast-scale high" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.contrast" --contrast-scale high --quiet
+grep -q "contrast-scale must be auto or a fraction in \[0, 0.5\], got 'high'" "$work/err" ||
+  fail "--contrast-scale high: unclear error"
+[ ! -e "$work/pods.contrast" ] || fail "--contrast-scale created its output folder"
 [ ! -e "$work/pods.passes4" ] || fail "--passes 4 created its output folder"
 expect_status 2 "reconstruct --window 2" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.window2" --window 2 --quiet

@@ -55,9 +55,10 @@ struct SelfReferencedOptions {
   int mask_dilation_px = 4;  // around the detected line (halo, blur), full-resolution px
   double illumination_sigma_fraction = 0.01;  // high-pass scale, of the image width
   // Contrast equalised over a Gaussian of this fraction of the tracked
-  // width (NormalizeIllumination); 0 = off. Off here: on the tank hovers
-  // and hulls it changed nothing consistently (`uwscan vo` has it on:
-  // transects move the texture through the light's whole fall-off).
+  // width (NormalizeIllumination); 0 = off. `uwscan reconstruct` sets it
+  // (ReconstructJob::contrast_scale): on with a fixed laser, whose scans
+  // move the texture through the light's whole fall-off, off on the
+  // hovering servo sweeps, where it only adds noise.
   double contrast_sigma_fraction = 0.0;
   // A pose that moves faster than a vehicle can is not believed: the frame
   // gets no pose and the map restarts from the last believed one.

@@ -251,6 +251,9 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     options.track_every = ResolveTrackEvery(job.track_every, frames);
     report.track_every = options.track_every;
     options.use_line_ranges = job.line_ranges.value_or(!LaserSweeps(frames));
+    options.contrast_sigma_fraction = job.contrast_scale.value_or(
+        LaserSweeps(frames) ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
+    report.contrast_scale = options.contrast_sigma_fraction;
     if (job.oracle_depths) options.depth_oracle = LoadDepthOracle(job.dataset);
     if (prior) {
       options.prior_surface = prior->surface;

@@ -35,6 +35,17 @@ struct ReconstructJob {
   // residual worse on 3 seeds of 4, median 8.2 vs 3.9 mm) and do nothing
   // on the tank.
   std::optional<bool> line_ranges;
+  // The tracked image's contrast equalised over a Gaussian of this fraction
+  // of its width (SelfReferencedOptions::contrast_sigma_fraction, which
+  // this sets); unset = kFixedLaserContrastScale with a fixed laser, 0 on
+  // servo sweeps. A fixed laser scans by the platform's motion, which
+  // carries the texture through the light's whole fall-off: on 13 20 m
+  // transects ATE 41-77 -> 7-31 mm and Sim(3) scale 0.990-0.995 ->
+  // 0.995-0.999 (BENCHMARKS.md, "Contrast equalised in the self-referenced
+  // scan"); a hover barely moves it, and there the equalisation only adds
+  // noise (hull shafts worse on the coastal seeds that need it most).
+  std::optional<double> contrast_scale;
+  static constexpr double kFixedLaserContrastScale = 0.05;  // as `uwscan vo`
   // Ignore line candidates that behave like scene texture (thesis §5.5): on
   // servo datasets those that stay put while the sheet sweeps
   // (laser/sweep_filter.h), with a fixed laser those that move with the
@@ -109,6 +120,7 @@ struct ReconstructReport {
   // match with a frame before them (the rest take the profile's depth).
   long texture_epipolar_matches = 0;
   bool line_ranges = false;               // whether the odometry used them
+  double contrast_scale = 0.0;            // the odometry's, as used (ReconstructJob::contrast_scale)
   long albedo_edge_points = 0;            // line points dropped on an albedo edge
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
@@ -133,6 +145,9 @@ struct ReconstructReport {
 
 // --track-every's value: "auto" (0) or a count >= 1; else a UsageError.
 int ParseTrackEvery(const std::string& value);
+// --contrast-scale's value: "auto" (unset) or a fraction in [0, 0.5]; else
+// a UsageError.
+std::optional<double> ParseContrastScale(const std::string& value);
 // ReconstructJob::track_every for these frames, auto resolved from their
 // timestamps.
 int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);

@@ -22,7 +22,7 @@ void ReconstructJob::Check() const {
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
   CheckOdometryFlags(self_referenced.odometry);
-  CheckContrastScale(self_referenced.contrast_sigma_fraction);
+  if (contrast_scale) CheckContrastScale(*contrast_scale);  // replaces self_referenced's
   if (self_referenced.smoothing_half_window < 0) {
     throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses), got " +
                      std::to_string(self_referenced.smoothing_half_window));
@@ -54,6 +54,21 @@ int ParseTrackEvery(const std::string& value) {
   if (used != value.size() || value.empty() || count < 1)
     throw UsageError("--track-every must be auto or a count >= 1, got '" + value + "'");
   return count;
+}
+
+std::optional<double> ParseContrastScale(const std::string& value) {
+  if (value == "auto") return std::nullopt;
+  size_t used = 0;
+  double fraction = 0.0;
+  try {
+    fraction = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != value.size() || value.empty())
+    throw UsageError("--contrast-scale must be auto or a fraction in [0, 0.5], got '" + value + "'");
+  CheckContrastScale(fraction);
+  return fraction;
 }
 
 int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
@@ -165,6 +180,7 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"static_candidates_ignored", static_detections_removed},
           {"texture_candidates_matched_epipolar", texture_epipolar_matches},
           {"line_ranges", line_ranges},
+          {"contrast_scale", contrast_scale},
           {"points_dropped_on_albedo_edges", albedo_edge_points},
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},
