@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "uwscan/pipeline/reconstruct.h"
@@ -42,30 +43,38 @@ void ReconstructJob::Check() const {
         "--poses replaces)");
 }
 
+namespace {
+
+// Whether the whole of `text` reads as a number (std::stoi / std::stod).
+template <typename T>
+bool ReadWhole(const std::string& text, T* value) {
+  size_t used = 0;
+  try {
+    if constexpr (std::is_integral_v<T>) {
+      *value = std::stoi(text, &used);
+    } else {
+      *value = std::stod(text, &used);
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == text.size() && !text.empty();
+}
+
+}  // namespace
+
 int ParseTrackEvery(const std::string& value) {
   if (value == "auto") return 0;
-  size_t used = 0;
   int count = 0;
-  try {
-    count = std::stoi(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || value.empty() || count < 1)
+  if (!ReadWhole(value, &count) || count < 1)
     throw UsageError("--track-every must be auto or a count >= 1, got '" + value + "'");
   return count;
 }
 
 std::optional<double> ParseContrastScale(const std::string& value) {
   if (value == "auto") return std::nullopt;
-  size_t used = 0;
   double fraction = 0.0;
-  try {
-    fraction = std::stod(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || value.empty())
+  if (!ReadWhole(value, &fraction))
     throw UsageError("--contrast-scale must be auto or a fraction in [0, 0.5], got '" + value + "'");
   CheckContrastScale(fraction);
   return fraction;
