@@ -1,7 +1,9 @@
 #include "uwscan/laser/detector.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
@@ -151,6 +153,7 @@ struct PeakProfile {
 struct Scratch {
   std::vector<int32_t> band;
   std::vector<int> candidates;
+  std::vector<uint8_t> maximum_flags;  // per sample: a local maximum above the threshold
   std::vector<PeakProfile> profiles;  // of the selected peaks
   BandPass bandpass;
 };
@@ -237,20 +240,35 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
   const int noise_half = std::max(outer + 2, o.noise_half_window_px / laser->stride);
   const int32_t* band = s->band.data();
   // Step 4, non-maximum suppression: local maxima above the threshold.
-  // Branch-free compaction: every index is written, the count advances
-  // only for a local maximum (on a textured tank frame some 40 of a row's
-  // 640 samples, scattered, so a branch per sample mispredicts).
+  // On a textured tank frame some 40 of a row's 640 samples, scattered, so
+  // a branch per sample mispredicts: one flag byte per sample (a loop the
+  // compiler vectorises), then eight flags at a time, most of them all
+  // zero, and the set ones in order by their lowest bit.
   // (The scratch keeps its size across rows: no re-initialisation per row.)
   auto& candidates = s->candidates;
   if (static_cast<int>(candidates.size()) < n) candidates.resize(n);
+  const int padded = (n + 7) / 8 * 8;
+  auto& flags = s->maximum_flags;
+  if (static_cast<int>(flags.size()) < padded) flags.resize(padded);
   int count = 0;
   {
-    int* __restrict out = candidates.data();
+    uint8_t* __restrict flag = flags.data();
     const int32_t* __restrict band_r = band;
+    flag[0] = 0;
     for (int i = 1; i + 1 < n; ++i) {
       const int32_t v = band_r[i];
-      out[count] = i;
-      count += int(v >= threshold) & int(v >= band_r[i - 1]) & int(v > band_r[i + 1]);
+      flag[i] = uint8_t(int(v >= threshold) & int(v >= band_r[i - 1]) & int(v > band_r[i + 1]));
+    }
+    for (int i = std::max(1, n - 1); i < padded; ++i) flag[i] = 0;
+    int* __restrict out = candidates.data();
+    static_assert(std::endian::native == std::endian::little, "flag k is byte k of the word");
+    for (int base = 0; base < padded; base += 8) {
+      uint64_t word;
+      std::memcpy(&word, flag + base, 8);
+      while (word) {  // byte k holds 0 or 1: its bit is 8k, little-endian
+        out[count++] = base + std::countr_zero(word) / 8;
+        word &= word - 1;
+      }
     }
   }
   for (int c = 0; c < count; ++c) {
