@@ -241,9 +241,9 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
   const int32_t* band = s->band.data();
   // Step 4, non-maximum suppression: local maxima above the threshold.
   // On a textured tank frame some 40 of a row's 640 samples, scattered, so
-  // a branch per sample mispredicts: one flag byte per sample (a loop the
-  // compiler vectorises), then eight flags at a time, most of them all
-  // zero, and the set ones in order by their lowest bit.
+  // a branch per sample mispredicts: one flag byte per sample (no store
+  // whose address depends on the data), then eight flags at a time, most
+  // of them all zero, and the set ones in order by their lowest bit.
   // (The scratch keeps its size across rows: no re-initialisation per row.)
   auto& candidates = s->candidates;
   if (static_cast<int>(candidates.size()) < n) candidates.resize(n);
