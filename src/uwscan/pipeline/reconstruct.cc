@@ -250,9 +250,10 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     fusion::SelfReferencedOptions options = job.self_referenced;
     options.track_every = ResolveTrackEvery(job.track_every, frames);
     report.track_every = options.track_every;
-    options.use_line_ranges = job.line_ranges.value_or(!LaserSweeps(frames));
-    options.contrast_sigma_fraction = job.contrast_scale.value_or(
-        LaserSweeps(frames) ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
+    const bool sweeps = LaserSweeps(frames);
+    options.use_line_ranges = job.line_ranges.value_or(!sweeps);
+    options.contrast_sigma_fraction =
+        job.contrast_scale.value_or(sweeps ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
     report.contrast_scale = options.contrast_sigma_fraction;
     if (job.oracle_depths) options.depth_oracle = LoadDepthOracle(job.dataset);
     if (prior) {

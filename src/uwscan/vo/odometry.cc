@@ -490,9 +490,7 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
     result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
     ApplyRemovedObservations(result->bundle_adjustment.removed_observations);
   }
-  while (int(map_.keyframes.size()) > window + options_.ba.history_keyframes) {
-    map_.keyframes.pop_front();
-  }
+  while (int(map_.keyframes.size()) > options_.ba.KeyframesRead()) map_.keyframes.pop_front();
   PruneMap();
   const Keyframe& adjusted = map_.keyframes.back();
   result->keyframe = true;

@@ -11,8 +11,7 @@ namespace uwscan::vo {
 
 void Odometry::LaunchBundleAdjustment() {
   SparseMap window;
-  const int first = std::max(
-      0, int(map_.keyframes.size()) - options_.ba.window_size - options_.ba.history_keyframes);
+  const int first = std::max(0, int(map_.keyframes.size()) - options_.ba.KeyframesRead());
   for (int k = first; k < int(map_.keyframes.size()); ++k) {
     const Keyframe& kf = map_.keyframes[size_t(k)];
     window.keyframes.push_back(kf);

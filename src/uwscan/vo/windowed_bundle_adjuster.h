@@ -37,6 +37,8 @@ struct BundleAdjustmentOptions {
   // outside ORB-SLAM's local BA): a point keeps the rays that placed it
   // after the keyframes that saw it first have left the window.
   int history_keyframes = 7;
+  // Keyframes a solve reads: the window and the held ones before it.
+  int KeyframesRead() const { return window_size + history_keyframes; }
   ProjectionMethod method = ProjectionMethod::kExact;
   int taylor_iterations = 2;
   double sigma_px = 1.0;
