@@ -65,8 +65,13 @@ void RegisterVoCommand(CLI::App& app) {
   vo->add_option("--ba-iterations", job->odometry.ba.max_iterations,
                  "iterations one windowed BA may take")
       ->capture_default_str();
-  vo->add_flag("--async-ba", job->odometry.async_bundle_adjustment,
-               "windowed BA on a second thread (frames are not held up by it)");
+  auto async_ba = std::make_shared<bool>(false);
+  auto no_async_ba = std::make_shared<bool>(false);
+  vo->add_flag("--async-ba", *async_ba,
+               "windowed BA on a second thread, its result joining the map 8 frames later "
+               "(frames are not held up by it); by default above 100 Hz");
+  vo->add_flag("--no-async-ba", *no_async_ba,
+               "the windowed BA on the tracking thread, each keyframe's result used at once");
   vo->add_option("--max-frames", job->max_frames, "stop after this many frames");
   vo->add_flag("--quiet", job->quiet, "no progress and no summary");
 
@@ -145,6 +150,10 @@ void RegisterVoCommand(CLI::App& app) {
     } else {
       throw UsageError("--projection must be exact or taylor");
     }
+    if (*async_ba && *no_async_ba)
+      throw UsageError("--async-ba and --no-async-ba exclude each other");
+    if (*async_ba) job->async_bundle_adjustment = true;
+    if (*no_async_ba) job->async_bundle_adjustment = false;
     job->dataset_dir = *dataset;
     job->trajectory_out = *out;
     if (!status->empty()) job->status_out = *status;
@@ -171,9 +180,9 @@ void RegisterVoCommand(CLI::App& app) {
                  s.frames / std::max(s.vo_s, 1e-9),
                  1e3 * s.bundle_adjustment_s / std::max(s.frames, 1),
                  1e3 * s.mask_s / std::max(s.frames, 1), s.wall_s);
-    std::fprintf(stderr, "windowed BA: %d solves, %d stopped by the %.2f s time limit%s\n",
-                 s.bundle_adjustments, s.bundle_adjustments_time_limited,
-                 job->odometry.ba.max_solver_time_s,
+    std::fprintf(stderr, "windowed BA%s: %d solves, %d stopped by the %.2f s time limit%s\n",
+                 s.async_bundle_adjustment ? " (own thread)" : "", s.bundle_adjustments,
+                 s.bundle_adjustments_time_limited, job->odometry.ba.max_solver_time_s,
                  s.bundle_adjustments_time_limited > 0
                      ? " (their results depend on the machine's load; --ba-time-limit)"
                      : "");

@@ -23,7 +23,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   job.dataset = options.dataset;
   job.out = scratch / "result";
   job.quiet = true;
-  job.self_referenced.odometry.async_bundle_adjustment = options.async_bundle_adjustment;
+  job.async_bundle_adjustment = options.async_bundle_adjustment;
   job.track_every = options.track_every;
   job.Check();  // before the (long) simulation
   double simulate_seconds = 0.0;
@@ -47,7 +47,6 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   getrusage(RUSAGE_SELF, &usage);
   nlohmann::json json = report.ToJson();
   json["benchmark"] = "pipeline";
-  json["async_bundle_adjustment"] = options.async_bundle_adjustment;
   json["track_every"] = report.track_every;
   json["dataset"] = options.dataset.empty() ? "simulated tank-target" : options.dataset.string();
   json["simulation_s_not_timed"] = simulate_seconds;

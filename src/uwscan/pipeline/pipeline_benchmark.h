@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 namespace uwscan {
 
@@ -13,8 +14,8 @@ struct PipelineBenchmarkOptions {
   int frames = 300;
   int width = 1280;
   int height = 960;
-  bool async_bundle_adjustment = false;  // as reconstruct --async-ba
-  int track_every = 0;                   // as reconstruct --track-every (0: auto)
+  std::optional<bool> async_bundle_adjustment;  // as reconstruct --async-ba; unset: auto
+  int track_every = 0;                          // as reconstruct --track-every (0: auto)
   void Check() const;
 };
 

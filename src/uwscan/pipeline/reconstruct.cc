@@ -250,6 +250,9 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     fusion::SelfReferencedOptions options = job.self_referenced;
     options.track_every = ResolveTrackEvery(job.track_every, frames);
     report.track_every = options.track_every;
+    options.odometry.async_bundle_adjustment =
+        ResolveAsyncBundleAdjustment(job.async_bundle_adjustment, frames);
+    report.async_bundle_adjustment = options.odometry.async_bundle_adjustment;
     const bool sweeps = LaserSweeps(frames);
     options.use_line_ranges = job.line_ranges.value_or(!sweeps);
     options.contrast_sigma_fraction =

@@ -93,6 +93,13 @@ struct ReconstructJob {
   // time on two cores, BENCHMARKS.md), 1 at 100 Hz and below.
   int track_every = 0;
   static constexpr double kMaxTrackedRateHz = 100.0;
+  // The odometry's windowed BA on a second thread
+  // (vo::OdometryOptions::async_bundle_adjustment, which this sets); unset
+  // (auto): when the frames come faster than kMaxTrackedRateHz, where a
+  // keyframe's BA holds up several frames and the scan would fall behind
+  // real time (the 144 Hz tank scan: real-time factor 1.01-1.13 -> 1.14-1.22
+  // on two cores, its clouds within the seeds' spread, BENCHMARKS.md).
+  std::optional<bool> async_bundle_adjustment;
   void Check() const;
 };
 
@@ -119,17 +126,18 @@ struct ReconstructReport {
   // Fixed laser: earlier candidates placed on the scene by an epipolar
   // match with a frame before them (the rest take the profile's depth).
   long texture_epipolar_matches = 0;
-  bool line_ranges = false;               // whether the odometry used them
-  double contrast_scale = 0.0;            // the odometry's, as used (ReconstructJob::contrast_scale)
-  long albedo_edge_points = 0;            // line points dropped on an albedo edge
+  bool line_ranges = false;     // whether the odometry used them
+  double contrast_scale = 0.0;  // the odometry's, as used (ReconstructJob::contrast_scale)
+  long albedo_edge_points = 0;  // line points dropped on an albedo edge
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
-  int passes = 1;                       // the self-referenced odometry's (ReconstructJob::passes)
-  int track_every = 1;                  // the odometry's, as used (ReconstructJob::track_every)
-  double seconds_earlier_passes = 0.0;  // of the passes before the last (included in `seconds`)
-  double sequence_duration_s = 0.0;     // from the frame timestamps
+  int passes = 1;                        // the self-referenced odometry's (ReconstructJob::passes)
+  int track_every = 1;                   // the odometry's, as used (ReconstructJob::track_every)
+  bool async_bundle_adjustment = false;  // as used (ReconstructJob::async_bundle_adjustment)
+  double seconds_earlier_passes = 0.0;   // of the passes before the last (included in `seconds`)
+  double sequence_duration_s = 0.0;      // from the frame timestamps
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider
   std::vector<CameraReport> other_cameras;
@@ -151,6 +159,10 @@ std::optional<double> ParseContrastScale(const std::string& value);
 // ReconstructJob::track_every for these frames, auto resolved from their
 // timestamps.
 int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);
+// ReconstructJob::async_bundle_adjustment for these frames, auto resolved
+// from their timestamps.
+bool ResolveAsyncBundleAdjustment(std::optional<bool> async,
+                                  const std::vector<FrameRecord>& frames);
 
 // Uses `provider` if given, else the job's --poses file, else the
 // self-referenced visual odometry. Writes OUT/cloud.ply,

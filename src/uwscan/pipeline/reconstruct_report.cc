@@ -75,7 +75,8 @@ std::optional<double> ParseContrastScale(const std::string& value) {
   if (value == "auto") return std::nullopt;
   double fraction = 0.0;
   if (!ReadWhole(value, &fraction))
-    throw UsageError("--contrast-scale must be auto or a fraction in [0, 0.5], got '" + value + "'");
+    throw UsageError("--contrast-scale must be auto or a fraction in [0, 0.5], got '" + value +
+                     "'");
   CheckContrastScale(fraction);
   return fraction;
 }
@@ -87,6 +88,13 @@ int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
   const double rate_hz = 1.0 / interval_s;
   return std::max(1,
                   static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxTrackedRateHz - 1e-9)));
+}
+
+bool ResolveAsyncBundleAdjustment(std::optional<bool> async,
+                                  const std::vector<FrameRecord>& frames) {
+  if (async) return *async;
+  const double interval_s = MeanFrameInterval(frames);
+  return interval_s > 0.0 && 1.0 / interval_s > ReconstructJob::kMaxTrackedRateHz + 1e-9;
 }
 
 std::vector<std::string> ReconstructReport::Warnings() const {
@@ -204,6 +212,7 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"earlier_passes", seconds_earlier_passes}}},
           {"passes", passes},
           {"track_every", track_every},
+          {"async_bundle_adjustment", async_bundle_adjustment},
           {"sequence_duration_s", sequence_duration_s},
           {"real_time_factor", RealTimeFactor()}};
 }

@@ -9,8 +9,8 @@
 #include <memory>
 #include <random>
 
-#include "uwscan/io/ply.h"
 #include "uwscan/eval/trajectory_metrics.h"
+#include "uwscan/io/ply.h"
 #include "uwscan/io/tum.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/sim/simulate.h"
@@ -370,7 +370,7 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   for (int run = 0; run < 3; ++run) {
     job.out = root / ("run" + std::to_string(run));
     const ReconstructReport report = RunReconstruct(job);
-    EXPECT_EQ(report.track_every, 2);        // auto at 144 Hz
+    EXPECT_EQ(report.track_every, 2);       // auto at 144 Hz
     EXPECT_EQ(report.contrast_scale, 0.0);  // auto on a servo sweep
     std::ifstream in(job.out / "trajectory.tum");
     trajectories.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -403,6 +403,13 @@ TEST(ReconstructTrackEvery, AutoFollowsTheFrameRate) {
   EXPECT_EQ(ParseTrackEvery("2"), 2);
   for (const char* bad : {"0", "-1", "2x", "", "two"})
     EXPECT_THROW(ParseTrackEvery(bad), UsageError) << bad;
+  // The windowed BA goes to a second thread where frames are skipped.
+  EXPECT_TRUE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(144.0, 50)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(100.0, 50)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(50.0, 50)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(144.0, 1)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(false, frames_at(144.0, 50)));
+  EXPECT_TRUE(ResolveAsyncBundleAdjustment(true, frames_at(15.0, 50)));
 }
 
 // --contrast-scale auto: a fixed laser scans by the platform's motion,
@@ -423,16 +430,17 @@ TEST(ReconstructContrast, AFixedLaserScanEqualisesTheTrackedContrast) {
     job.contrast_scale = contrast_scale;
     const ReconstructReport report = RunReconstruct(job);
     EXPECT_EQ(report.frames_without_pose, 0) << name;
-    return std::make_pair(report,
-                          ComputeTrajectoryMetrics(ReadTum(job.out / "trajectory.tum"), ground_truth));
+    return std::make_pair(
+        report, ComputeTrajectoryMetrics(ReadTum(job.out / "trajectory.tum"), ground_truth));
   };
   const auto [automatic, equalised] = run("auto", std::nullopt);
   const auto [off, plain] = run("off", 0.0);
-  std::printf("coastal transect: ATE %.1f mm, drift %.2f %%, scale %.4f equalised (auto, %.2f); "
-              "ATE %.1f mm, drift %.2f %%, scale %.4f off\n",
-              1e3 * equalised.ate_rmse_m, equalised.drift_trans_percent,
-              equalised.alignment.scale, automatic.contrast_scale, 1e3 * plain.ate_rmse_m,
-              plain.drift_trans_percent, plain.alignment.scale);
+  std::printf(
+      "coastal transect: ATE %.1f mm, drift %.2f %%, scale %.4f equalised (auto, %.2f); "
+      "ATE %.1f mm, drift %.2f %%, scale %.4f off\n",
+      1e3 * equalised.ate_rmse_m, equalised.drift_trans_percent, equalised.alignment.scale,
+      automatic.contrast_scale, 1e3 * plain.ate_rmse_m, plain.drift_trans_percent,
+      plain.alignment.scale);
   EXPECT_EQ(automatic.contrast_scale, ReconstructJob::kFixedLaserContrastScale);
   EXPECT_EQ(off.contrast_scale, 0.0);
   EXPECT_LT(equalised.ate_rmse_m, 0.7 * plain.ate_rmse_m);

@@ -1,12 +1,12 @@
 #include "uwscan/pipeline/vo_run.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
-#include <fmt/format.h>
 #include <map>
 #include <opencv2/imgproc.hpp>
 
@@ -126,13 +126,25 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   if (halvings > 0) camera = Tracking::TrackingCamera(camera, halvings, bayer_offset);
   const cv::Size tracked_size(camera.width, camera.height);
 
-  vo::Odometry odometry(camera, job.odometry);
+  vo::OdometryOptions odometry_options = job.odometry;
+  if (job.async_bundle_adjustment) {
+    odometry_options.async_bundle_adjustment = *job.async_bundle_adjustment;
+  } else {
+    const size_t n = dataset.frames.size();
+    const double span_s =
+        n > 1 ? dataset.frames.back().timestamp_s - dataset.frames.front().timestamp_s : 0.0;
+    odometry_options.async_bundle_adjustment =
+        span_s > 0.0 && double(n - 1) / span_s > VoJob::kAsyncAboveHz + 1e-9;
+  }
+  vo::Odometry odometry(camera, odometry_options);
   VoRunSummary summary;
-  summary.tracked_image = (bayer_offset ? std::string(passive_rgb == laser::kRed ? "red" : "blue") +
-                                              " samples of the raw mosaic"
-                                        : std::string("passive colour")) +
-                          ", " + std::to_string(camera.width) + "x" + std::to_string(camera.height)
-                          + (job.contrast_sigma_fraction > 0 ? ", contrast equalised" : "");
+  summary.async_bundle_adjustment = odometry_options.async_bundle_adjustment;
+  summary.tracked_image =
+      (bayer_offset
+           ? std::string(passive_rgb == laser::kRed ? "red" : "blue") + " samples of the raw mosaic"
+           : std::string("passive colour")) +
+      ", " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+      (job.contrast_sigma_fraction > 0 ? ", contrast equalised" : "");
   std::map<int, StampedPose> poses;  // by position in frames.csv
   std::vector<vo::FrameResult> results;
   std::vector<std::string> status_lines;

@@ -48,6 +48,12 @@ struct VoJob {
     options.ba.window_size = 14;
     return options;
   }();
+  // odometry.async_bundle_adjustment, which this sets; unset (auto): above
+  // kAsyncAboveHz, where a keyframe's BA would hold up several frames (as
+  // `uwscan reconstruct`; 1280x960 full VO 133-140 -> 186-189 frames/s of
+  // CPU, `uwscan vo bench`).
+  std::optional<bool> async_bundle_adjustment;
+  static constexpr double kAsyncAboveHz = 100.0;
   void Check() const;
 };
 
@@ -68,10 +74,11 @@ struct VoRunSummary {
   double tracking_s = 0.0;                      // feature tracking part of it
   double mask_s = 0.0;                          // laser detection for the mask
   double vo_cpu_s = 0.0, tracking_cpu_s = 0.0;  // thread CPU time of the same
-  double bundle_adjustment_s = 0.0;             // windowed BA (wall), part of vo_s
+  double bundle_adjustment_s = 0.0;             // windowed BA (wall), part of vo_s if not async
   int bundle_adjustments = 0;
   int bundle_adjustments_time_limited = 0;  // stopped by the time limit (load-dependent)
   long rss_kb_at_10_percent = 0, rss_kb_end = 0, peak_rss_kb = 0;
+  bool async_bundle_adjustment = false;  // as used (VoJob::async_bundle_adjustment)
   std::string tracked_image;          // what the odometry tracked, e.g. "red samples ..., 640x480"
   std::vector<std::string> warnings;  // first few, for the CLI
   std::optional<TrajectoryMetrics> metrics;

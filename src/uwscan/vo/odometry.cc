@@ -67,6 +67,7 @@ void OdometryOptions::Check() const {
   UWS_CHECK(max_reprojection_px > 0, "max_reprojection_px must be > 0");
   UWS_CHECK(max_step_depth_ratio > 0, "max_step_depth_ratio must be > 0");
   UWS_CHECK(initial_median_depth_m > 0, "initial_median_depth_m must be > 0");
+  UWS_CHECK(async_merge_frames >= 1, "async_merge_frames must be >= 1");
 }
 
 cv::Mat ToGray8(const cv::Mat& image) {
@@ -325,7 +326,9 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
 
 void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& passed_ranges,
                      const LineRanges& line_ranges, FrameResult* result) {
-  if (options_.async_bundle_adjustment) MergeBundleAdjustment(/*wait=*/false);
+  if (pending_ba_.valid() && ++frames_since_ba_launch_ >= options_.async_merge_frames) {
+    MergeBundleAdjustment(result);
+  }
   std::vector<Ray> rays;
   std::vector<Eigen::Vector3d> points;
   std::vector<uint64_t> ids;
@@ -439,6 +442,9 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& pa
 
 void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
                            const std::vector<RangeConstraint>& ranges, FrameResult* result) {
+  // The BA in flight joins the map before this keyframe's points and
+  // surface measurements change it.
+  MergeBundleAdjustment(result);
   // New features first, so that they are observed in this keyframe.
   tracker_.Detect(mask, &result->tracking);
   Keyframe kf;
@@ -484,8 +490,7 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
   if (options_.surface) AddSurfacePoints(&map_.keyframes.back());
 
   if (options_.async_bundle_adjustment) {
-    MergeBundleAdjustment(/*wait=*/true);  // bounded: one BA in flight
-    LaunchBundleAdjustment();
+    LaunchBundleAdjustment();  // one BA in flight: the last one was merged above
   } else {
     result->bundle_adjustment = AdjustWindow(camera_, options_.ba, &map_);
     ApplyRemovedObservations(result->bundle_adjustment.removed_observations);

@@ -98,11 +98,14 @@ struct OdometryOptions {
   // metres), so the map starts near it; range constraints then fix it.
   double initial_median_depth_m = 2.0;
   // Run the windowed BA of each keyframe on a second thread (on a copy of
-  // the window) and merge its result when it is done; the next keyframe
-  // waits for it. Frames are then not held up by the BA (the thesis's
-  // 144 Hz needs this); results depend on thread timing, so it is off by
-  // default. extra_residuals is then called on that thread.
+  // the window) while the frames after it are tracked against the map as it
+  // was. Its result joins the map at the async_merge_frames-th frame after
+  // the keyframe, or at the next keyframe if that comes first, waiting for
+  // the BA if it is not done: where the result lands does not depend on
+  // thread timing, so runs are reproducible. extra_residuals is then called
+  // on that thread.
   bool async_bundle_adjustment = false;
+  int async_merge_frames = 8;
   void Check() const;
 };
 
@@ -121,8 +124,10 @@ struct FrameResult {
   // initialisation reference frame): frame_index -> world_from_camera.
   std::vector<std::pair<int, Rigid3d>> earlier_poses;
   TrackingStats tracking;
-  BundleAdjustmentSummary bundle_adjustment;  // when keyframe
-  double tracking_time_s = 0.0;               // features only (wall clock)
+  // When keyframe; with async_bundle_adjustment, that of the BA merged at
+  // this frame.
+  BundleAdjustmentSummary bundle_adjustment;
+  double tracking_time_s = 0.0;  // features only (wall clock)
   double total_time_s = 0.0;
   // The same as CPU time of the calling thread: on a shared machine this
   // is the cost of the frame, the wall clock includes waiting for a core.
@@ -197,8 +202,9 @@ class Odometry {
     BundleAdjustmentSummary summary;
   };
   void LaunchBundleAdjustment();
-  // Merges a finished BA (or waits for it with `wait`); false if none merged.
-  bool MergeBundleAdjustment(bool wait);
+  // Waits for the BA in flight, if any, and merges its result; its summary
+  // goes into `result` (the frame it is merged at), when given.
+  void MergeBundleAdjustment(FrameResult* result = nullptr);
   void DiscardBundleAdjustment();
   void ApplyRemovedObservations(const std::vector<uint64_t>& ids);
   double MedianDepth(const Keyframe& keyframe) const;
@@ -219,6 +225,7 @@ class Odometry {
   Rigid3d last_camera_from_world_;  // last emitted pose
   double last_median_depth_ = 2.0;  // scale carried over a re-initialisation
   std::future<AdjustedWindow> pending_ba_;
+  int frames_since_ba_launch_ = 0;
 };
 
 // 8-bit grey view of a frame (16-bit scaled by its used bit depth, colour ->

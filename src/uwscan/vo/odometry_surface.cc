@@ -103,6 +103,7 @@ FrameResult Odometry::InitializeFromSurface(const cv::Mat& image, const cv::Mat&
   result.tracking = tracker_.Track(gray, mask);
   tracker_.Detect(mask, &result.tracking);
   tracker_.SetAnchor(mask);
+  MergeBundleAdjustment(&result);  // an earlier map's BA in flight, if any
   SparseMap previous = std::move(map_);
   map_.Clear();
   Keyframe keyframe;
