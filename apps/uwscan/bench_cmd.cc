@@ -83,19 +83,13 @@ void RegisterBenchCommands(CLI::App& app) {
   pipeline->add_option("--frames", pipeline_options->frames)->capture_default_str();
   pipeline->add_option("--width", pipeline_options->width)->capture_default_str();
   pipeline->add_option("--height", pipeline_options->height)->capture_default_str();
-  auto pipeline_async = std::make_shared<bool>(false);
-  auto pipeline_no_async = std::make_shared<bool>(false);
-  pipeline->add_flag("--async-ba", *pipeline_async, "as reconstruct --async-ba");
-  pipeline->add_flag("--no-async-ba", *pipeline_no_async, "as reconstruct --no-async-ba");
+  AddAsyncBundleAdjustmentFlags(pipeline, &pipeline_options->async_bundle_adjustment,
+                                "as reconstruct --async-ba");
   auto pipeline_track_every = std::make_shared<std::string>("auto");
   pipeline->add_option("--track-every", *pipeline_track_every, "as reconstruct --track-every")
       ->capture_default_str();
-  pipeline->callback([=] {
+  pipeline->callback([pipeline_options, pipeline_dataset, pipeline_track_every] {
     pipeline_options->dataset = *pipeline_dataset;
-    if (*pipeline_async && *pipeline_no_async)
-      throw UsageError("--async-ba and --no-async-ba exclude each other");
-    if (*pipeline_async) pipeline_options->async_bundle_adjustment = true;
-    if (*pipeline_no_async) pipeline_options->async_bundle_adjustment = false;
     pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);
     std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
   });

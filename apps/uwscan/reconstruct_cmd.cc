@@ -40,8 +40,6 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto no_difference = std::make_shared<bool>(false);
   auto no_line_ranges = std::make_shared<bool>(false);
   auto line_ranges = std::make_shared<bool>(false);
-  auto async_ba = std::make_shared<bool>(false);
-  auto no_async_ba = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
   auto passes = std::make_shared<std::string>("auto");
   auto track_every = std::make_shared<std::string>("auto");
@@ -120,12 +118,10 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--ba-time-limit", job->self_referenced.odometry.ba.max_solver_time_s,
                   "seconds one windowed BA may take before it stops unconverged")
       ->capture_default_str();
-  cmd->add_flag("--async-ba", *async_ba,
-                "the odometry's windowed BA on a second thread, its result joining the map 8 "
-                "tracked frames later; by default above 100 Hz (the scan keeps up with the "
-                "camera)");
-  cmd->add_flag("--no-async-ba", *no_async_ba,
-                "the windowed BA on the tracking thread, each keyframe's result used at once");
+  AddAsyncBundleAdjustmentFlags(
+      cmd, &job->async_bundle_adjustment,
+      "the odometry's windowed BA on a second thread, its result joining the map 8 tracked "
+      "frames later; by default above 100 Hz (the scan keeps up with the camera)");
   cmd->add_option("--passes", *passes,
                   "passes of the odometry over the frames (1-3): in a later one the features take "
                   "their depths from the surface the pass before measured over the whole scan "
@@ -152,10 +148,6 @@ void RegisterReconstructCommand(CLI::App& app) {
     }
     if (*no_line_ranges) job->line_ranges = false;
     if (*line_ranges) job->line_ranges = true;
-    if (*async_ba && *no_async_ba)
-      throw UsageError("--async-ba and --no-async-ba exclude each other");
-    if (*async_ba) job->async_bundle_adjustment = true;
-    if (*no_async_ba) job->async_bundle_adjustment = false;
     job->other_cameras = !*main_camera_only;
     if (*passes == "auto") {
       job->passes = 0;

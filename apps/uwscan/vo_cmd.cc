@@ -65,13 +65,10 @@ void RegisterVoCommand(CLI::App& app) {
   vo->add_option("--ba-iterations", job->odometry.ba.max_iterations,
                  "iterations one windowed BA may take")
       ->capture_default_str();
-  auto async_ba = std::make_shared<bool>(false);
-  auto no_async_ba = std::make_shared<bool>(false);
-  vo->add_flag("--async-ba", *async_ba,
-               "windowed BA on a second thread, its result joining the map 8 frames later "
-               "(frames are not held up by it); by default above 100 Hz");
-  vo->add_flag("--no-async-ba", *no_async_ba,
-               "the windowed BA on the tracking thread, each keyframe's result used at once");
+  AddAsyncBundleAdjustmentFlags(vo, &job->async_bundle_adjustment,
+                                "windowed BA on a second thread, its result joining the map 8 "
+                                "frames later (frames are not held up by it); by default above "
+                                "100 Hz");
   vo->add_option("--max-frames", job->max_frames, "stop after this many frames");
   vo->add_flag("--quiet", job->quiet, "no progress and no summary");
 
@@ -150,10 +147,6 @@ void RegisterVoCommand(CLI::App& app) {
     } else {
       throw UsageError("--projection must be exact or taylor");
     }
-    if (*async_ba && *no_async_ba)
-      throw UsageError("--async-ba and --no-async-ba exclude each other");
-    if (*async_ba) job->async_bundle_adjustment = true;
-    if (*no_async_ba) job->async_bundle_adjustment = false;
     job->dataset_dir = *dataset;
     job->trajectory_out = *out;
     if (!status->empty()) job->status_out = *status;

@@ -98,6 +98,10 @@ expect_status 2 "reconstruct --contrast-scale high" "$uwscan" reconstruct --data
 grep -q "contrast-scale must be auto or a fraction in \[0, 0.5\], got 'high'" "$work/err" ||
   fail "--contrast-scale high: unclear error"
 [ ! -e "$work/pods.contrast" ] || fail "--contrast-scale created its output folder"
+expect_status 2 "reconstruct --async-ba --no-async-ba" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.async" --async-ba --no-async-ba --quiet
+grep -q "async-ba excludes --no-async-ba" "$work/err" || fail "--async-ba --no-async-ba: unclear error"
+[ ! -e "$work/pods.async" ] || fail "--async-ba --no-async-ba created its output folder"
 [ ! -e "$work/pods.passes4" ] || fail "--passes 4 created its output folder"
 expect_status 2 "reconstruct --window 2" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.window2" --window 2 --quiet

@@ -370,8 +370,9 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   for (int run = 0; run < 3; ++run) {
     job.out = root / ("run" + std::to_string(run));
     const ReconstructReport report = RunReconstruct(job);
-    EXPECT_EQ(report.track_every, 2);       // auto at 144 Hz
-    EXPECT_EQ(report.contrast_scale, 0.0);  // auto on a servo sweep
+    EXPECT_EQ(report.track_every, 2);             // auto at 144 Hz
+    EXPECT_EQ(report.contrast_scale, 0.0);        // auto on a servo sweep
+    EXPECT_TRUE(report.async_bundle_adjustment);  // auto at 144 Hz: reproducible all the same
     std::ifstream in(job.out / "trajectory.tum");
     trajectories.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     for (int i = 0; i < 1000; ++i) clutter.emplace_back(new char[size_t(16 + 97 * i % 4096)]);
