@@ -165,8 +165,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                    "poses from %s%s%s, %.1f s (%.2fx real time) -> %s/cloud.ply\n",
                    r.frames, r.frames_with_line, r.frames_without_pose, r.points,
                    r.pose_source.c_str(), PassesNote(r.passes, job->passes == 0).c_str(),
-                   TrackEveryNote(r.track_every).c_str(), r.seconds, r.RealTimeFactor(),
-                   out->c_str());
+                   (TrackEveryNote(r.track_every) +
+                    (r.async_bundle_adjustment ? ", windowed BA on its own thread" : ""))
+                       .c_str(),
+                   r.seconds, r.RealTimeFactor(), out->c_str());
       for (const CameraReport& camera : r.other_cameras) {
         std::fprintf(stderr,
                      "reconstruct: camera %s with %s: %d frames (%d with a line), %ld points\n",
