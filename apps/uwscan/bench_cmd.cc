@@ -7,6 +7,7 @@
 #include "uwscan/pipeline/pipeline_benchmark.h"
 #include "uwscan/pipeline/projection_benchmark.h"
 #include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/pipeline/track_accuracy_benchmark.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::cli {
@@ -92,6 +93,29 @@ void RegisterBenchCommands(CLI::App& app) {
     pipeline_options->dataset = *pipeline_dataset;
     pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);
     std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
+  });
+
+  auto tracks_options = std::make_shared<TrackAccuracyOptions>();
+  auto tracks_dataset = std::make_shared<std::string>();
+  auto* tracks = bench->add_subcommand(
+      "tracks",
+      "The self-referenced odometry's feature tracks on a simulated dataset against the "
+      "simulator's truth: flow gain (do tracks lag the motion?) and errors, as JSON");
+  tracks
+      ->add_option("--dataset", *tracks_dataset, "simulated dataset (scene.yaml, groundtruth.tum)")
+      ->required();
+  tracks->add_option("--frames", tracks_options->frames, "frames (0 = all)")->capture_default_str();
+  tracks
+      ->add_option("--anchor-every", tracks_options->anchor_every,
+                   "frames between the tracker's anchors (as keyframes)")
+      ->capture_default_str();
+  tracks
+      ->add_option("--contrast-scale", tracks_options->contrast_scale,
+                   "as reconstruct --contrast-scale (0 = off)")
+      ->capture_default_str();
+  tracks->callback([tracks_options, tracks_dataset] {
+    tracks_options->dataset = *tracks_dataset;
+    std::cout << RunTrackAccuracyBenchmark(*tracks_options).ToJson().dump(2) << "\n";
   });
 }
 

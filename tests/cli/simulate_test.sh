@@ -28,6 +28,16 @@ done
 [ "$(head -1 "$work/ds/frames.csv")" = "index,timestamp_s,file,laser_angle_rad" ] || fail "frames.csv header"
 [ "$(grep -vc '^#' "$work/ds/groundtruth.tum")" -eq 3 ] || fail "groundtruth.tum rows"
 [ "$(head -1 "$work/ds/laser_gt.csv")" = "frame,laser,u,v,x,y,z" ] || fail "laser_gt.csv header"
+
+# bench tracks on it: JSON with the flow gain; a dataset without its scene
+# (not simulated) or no dataset at all is named in the error.
+expect_status 0 "bench tracks" "$uwscan" bench tracks --dataset "$work/ds"
+grep -q '"flow_gain_minus_1"' "$work/out" || fail "bench tracks: no flow gain"
+mkdir -p "$work/real" && cp "$work/ds/rig.yaml" "$work/ds/frames.csv" "$work/real/"
+expect_status 1 "bench tracks, no scene" "$uwscan" bench tracks --dataset "$work/real"
+grep -q "real/scene.yaml: missing" "$work/err" || fail "bench tracks: unclear error without scene.yaml"
+expect_status 1 "bench tracks, no dataset" "$uwscan" bench tracks --dataset "$work/none"
+grep -q "none: no such dataset folder" "$work/err" || fail "bench tracks: unclear error without dataset"
 [ "$(wc -l < "$work/ds/laser_gt.csv")" -gt 100 ] || fail "laser_gt.csv too short"
 [ -z "$(cat "$work/out")" ] || fail "--quiet printed to stdout"
 
