@@ -93,9 +93,12 @@ cv::Mat SelfReferencedPoseProvider::TrackedLineMask(const cv::Mat& line_mask,
 
 PreparedFrame SelfReferencedPoseProvider::PrepareAhead(const FrameInput& frame) const {
   UWS_CHECK(!frame.image.empty(), "frame ", frame.index, ": empty image");
-  const std::optional<cv::Point> bayer_offset = ChooseBayerOffset(frame.image);
-  return MakePrepared(frame.image, frame.detection ? &frame.detection->mask : nullptr, bayer_offset,
-                      TrackingCamera(camera_, tracking_halvings_, bayer_offset));
+  return MakePrepared(frame.image, frame.detection ? &frame.detection->mask : nullptr,
+                      ChooseBayerOffset(frame.image), TrackedCamera(frame.image));
+}
+
+Camera SelfReferencedPoseProvider::TrackedCamera(const cv::Mat& frame) const {
+  return TrackingCamera(camera_, tracking_halvings_, ChooseBayerOffset(frame));
 }
 
 SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(

@@ -119,6 +119,8 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // tracked is known only in Add, and preparing all would waste the time.
   bool PreparesAhead() const override { return options_.track_every == 1; }
   PreparedFrame PrepareAhead(const FrameInput& frame) const override;
+  // The camera of the image PrepareAhead makes from this stored frame.
+  Camera TrackedCamera(const cv::Mat& frame) const;
 
   // The image the odometry tracks: the LED's colour channel of a raw Bayer
   // or colour frame (not the laser's), else the frame itself.

@@ -95,8 +95,8 @@ struct ReconstructJob {
   static constexpr double kMaxTrackedRateHz = 100.0;
   // The odometry's windowed BA on a second thread
   // (vo::OdometryOptions::async_bundle_adjustment, which this sets); unset
-  // (auto): when the frames come faster than kMaxTrackedRateHz, where a
-  // keyframe's BA holds up several frames and the scan would fall behind
+  // (auto): when the frames come faster than vo::kAsyncBundleAdjustmentAboveHz,
+  // where a keyframe's BA holds up several frames and the scan would fall behind
   // real time (the 144 Hz tank scan: real-time factor 0.99-1.13 -> 1.06-1.22
   // on two cores, its clouds within the seeds' spread, BENCHMARKS.md).
   std::optional<bool> async_bundle_adjustment;

@@ -92,9 +92,7 @@ int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
 
 bool ResolveAsyncBundleAdjustment(std::optional<bool> async,
                                   const std::vector<FrameRecord>& frames) {
-  if (async) return *async;
-  const double interval_s = MeanFrameInterval(frames);
-  return interval_s > 0.0 && 1.0 / interval_s > ReconstructJob::kMaxTrackedRateHz + 1e-9;
+  return async.value_or(vo::AsyncBundleAdjustmentByDefault(MeanFrameInterval(frames)));
 }
 
 std::vector<std::string> ReconstructReport::Warnings() const {

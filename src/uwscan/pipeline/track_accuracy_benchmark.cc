@@ -100,9 +100,6 @@ TrackAccuracyResult RunTrackAccuracyBenchmark(const TrackAccuracyOptions& option
   provider_options.contrast_sigma_fraction = options.contrast_scale;
   const fusion::SelfReferencedPoseProvider provider(camera, detector.laser_channel,
                                                     provider_options);
-  using Tracking = fusion::SelfReferencedPoseProvider;
-  const int halvings =
-      Tracking::TrackingHalvings(camera.width, provider_options.max_tracking_width);
   vo::FeatureTracker tracker(provider_options.odometry.tracker);
 
   struct Start {
@@ -130,15 +127,7 @@ TrackAccuracyResult RunTrackAccuracyBenchmark(const TrackAccuracyOptions& option
     input.image = raw;
     input.detection = &detection;
     const fusion::PreparedFrame prepared = provider.PrepareAhead(input);
-    const std::optional<cv::Point> offset =
-        halvings > 0 && raw.channels() == 1
-            ? Tracking::BayerSampleOffset(camera.bayer,
-                                          Tracking::PassiveColour(detector.laser_channel))
-            : std::nullopt;
-    const Camera tracked = Tracking::TrackingCamera(camera, halvings, offset);
-    UWS_CHECK(prepared.image.cols == tracked.width && prepared.image.rows == tracked.height,
-              "bench tracks: the tracked image is ", prepared.image.cols, "x", prepared.image.rows,
-              ", its camera ", tracked.width, "x", tracked.height);
+    const Camera tracked = provider.TrackedCamera(raw);
     tracker.Track(prepared.image, prepared.mask);
     if (i % options.anchor_every == 0) {
       tracker.Detect(prepared.mask);

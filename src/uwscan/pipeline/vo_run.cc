@@ -127,15 +127,12 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   const cv::Size tracked_size(camera.width, camera.height);
 
   vo::OdometryOptions odometry_options = job.odometry;
-  if (job.async_bundle_adjustment) {
-    odometry_options.async_bundle_adjustment = *job.async_bundle_adjustment;
-  } else {
-    const size_t n = dataset.frames.size();
-    const double span_s =
-        n > 1 ? dataset.frames.back().timestamp_s - dataset.frames.front().timestamp_s : 0.0;
-    odometry_options.async_bundle_adjustment =
-        span_s > 0.0 && double(n - 1) / span_s > VoJob::kAsyncAboveHz + 1e-9;
-  }
+  const size_t n = dataset.frames.size();
+  const double mean_interval_s =
+      n > 1 ? (dataset.frames.back().timestamp_s - dataset.frames.front().timestamp_s) / (n - 1)
+            : 0.0;
+  odometry_options.async_bundle_adjustment =
+      job.async_bundle_adjustment.value_or(vo::AsyncBundleAdjustmentByDefault(mean_interval_s));
   vo::Odometry odometry(camera, odometry_options);
   VoRunSummary summary;
   summary.async_bundle_adjustment = odometry_options.async_bundle_adjustment;

@@ -49,11 +49,9 @@ struct VoJob {
     return options;
   }();
   // odometry.async_bundle_adjustment, which this sets; unset (auto): above
-  // kAsyncAboveHz, where a keyframe's BA would hold up several frames (as
-  // `uwscan reconstruct`; 1280x960 full VO 133-140 -> 186-189 frames/s of
-  // CPU, `uwscan vo bench`).
+  // vo::kAsyncBundleAdjustmentAboveHz (as `uwscan reconstruct`; 1280x960
+  // full VO 133-140 -> 186-189 frames/s of CPU, `uwscan vo bench`).
   std::optional<bool> async_bundle_adjustment;
-  static constexpr double kAsyncAboveHz = 100.0;
   void Check() const;
 };
 

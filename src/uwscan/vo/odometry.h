@@ -109,6 +109,15 @@ struct OdometryOptions {
   void Check() const;
 };
 
+// Frames faster than this: the controllers (`uwscan reconstruct`, `uwscan
+// vo`) run the windowed BA on its own thread unless told otherwise, since a
+// keyframe's BA would hold up several frames there.
+inline constexpr double kAsyncBundleAdjustmentAboveHz = 100.0;
+inline bool AsyncBundleAdjustmentByDefault(double mean_frame_interval_s) {
+  return mean_frame_interval_s > 0.0 &&
+         1.0 / mean_frame_interval_s > kAsyncBundleAdjustmentAboveHz + 1e-9;
+}
+
 struct FrameResult {
   int frame_index = 0;  // running count of ProcessFrame calls
   double timestamp_s = 0.0;
