@@ -2,6 +2,7 @@
 // against the dataset's ground truth: the trajectory (ATE after Sim(3), RPE,
 // KITTI drift) and, for a reconstruction of a simulated dataset, its clouds
 // (plane/cylinder fits, distance and point errors, compensated vs not).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -62,6 +63,11 @@ void RegisterEvaluateCommand(CLI::App& app) {
   evaluate->add_option("--rpe-from", options->rpe_from_s, "RPE only from this time (s)");
   evaluate->add_option("--rpe-to", options->rpe_to_s, "RPE only up to this time (s)");
   evaluate->add_flag("--se3", *se3, "align without scale (metric trajectories)");
+  auto viewed_depth = std::make_shared<double>(-1.0);
+  auto* viewed_depth_given =
+      evaluate->add_option("--viewed-depth", *viewed_depth,
+                           "distance to the scene along the optical axis (m) for the motion of "
+                           "what the camera looks at (default: from the dataset's scene; 0: off)");
   evaluate->callback([=] {
     if (trajectory->empty() == result->empty()) {
       throw UsageError("evaluate needs exactly one of --trajectory and --result");
@@ -71,6 +77,12 @@ void RegisterEvaluateCommand(CLI::App& app) {
     const fs::path truth_path = fs::path(*dataset) / "groundtruth.tum";
     UWS_CHECK(fs::exists(truth_path), truth_path.string(), ": no ground truth");
     options->align_scale = !*se3;
+    if (viewed_depth_given->count() > 0 && !(*viewed_depth >= 0 && std::isfinite(*viewed_depth))) {
+      throw UsageError("--viewed-depth must be a distance >= 0 (m), got " +
+                       std::to_string(*viewed_depth));
+    }
+    options->viewed_depth_m =
+        viewed_depth_given->count() > 0 ? *viewed_depth : MedianViewedDepth(*dataset);
     const TumTrajectory estimate = ReadTumTrajectory(estimate_path);
     const TumTrajectory truth = ReadTumTrajectory(truth_path);
     const TrajectoryMetrics metrics =

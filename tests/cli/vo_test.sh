@@ -25,6 +25,16 @@ drift=$(sed -n 's/^drift (KITTI.*): \([0-9.]*\) % translation.*/\1/p' "$dir/eval
 awk -v a="$ate" 'BEGIN { exit !(a < 0.004) }' || fail "ATE $ate m too large"
 awk -v d="$drift" 'BEGIN { exit !(d < 1.0) }' || fail "drift $drift % too large"
 grep -q "RPE per frame" "$dir/eval" || fail "no RPE"
+# The motion of what the camera looks at: not without a scene (vo synth
+# writes none) unless its distance is given; a negative one is a usage error.
+! grep -q "ahead on the optical axis" "$dir/eval" || fail "viewed point without a scene"
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --viewed-depth 2 >"$dir/veval" \
+  || fail "evaluate --viewed-depth"
+grep -q "^the point 2.000 m ahead on the optical axis (the scene): moved [0-9.]* of the truth; [0-9]* % of the camera's translation error is a turn about it$" \
+  "$dir/veval" || fail "no viewed-point line: $(cat "$dir/veval")"
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --viewed-depth -1 2>"$dir/err" >/dev/null
+[ $? -eq 2 ] || fail "--viewed-depth -1: want exit 2"
+grep -q -- "--viewed-depth must be" "$dir/err" || fail "--viewed-depth error does not say why"
 
 # The summary says how many windowed BA solves the time limit stopped.
 grep -q "^windowed BA: [0-9]* solves, [0-9]* stopped by the 0.20 s time limit" "$dir/log" \

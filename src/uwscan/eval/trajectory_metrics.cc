@@ -57,6 +57,8 @@ void TrajectoryMetricsOptions::Check() const {
   UWS_CHECK(rpe_step >= 1, "rpe_step must be >= 1");
   UWS_CHECK(drift_start_step >= 1, "drift_start_step must be >= 1");
   UWS_CHECK(motion_lag >= 0, "motion_lag must be >= 0");
+  UWS_CHECK(viewed_depth_m >= 0 && std::isfinite(viewed_depth_m),
+            "viewed_depth_m must be >= 0, got ", viewed_depth_m);
   for (double length : drift_lengths_m) UWS_CHECK(length > 0, "drift lengths must be > 0");
 }
 
@@ -151,6 +153,8 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   metrics.motion_lag =
       options.motion_lag > 0 ? options.motion_lag : std::max(1, int(est.size()) / 10);
   double t_cross = 0, t_true = 0, r_cross = 0, r_true = 0;
+  double v_cross = 0, v_true = 0, error_squared = 0, unexplained_squared = 0;
+  const Eigen::Vector3d viewed(0.0, 0.0, options.viewed_depth_m);
   for (size_t i = 0, j = 0; i < est.size(); ++i) {
     j = std::max(j, i + 1);
     while (j < est.size() && gt_index[j] - gt_index[i] < metrics.motion_lag) ++j;
@@ -162,9 +166,28 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     const double r_gt = gt[i].rotation.angularDistance(gt[j].rotation);
     t_cross += t_est * t_gt, t_true += t_gt * t_gt;
     r_cross += r_est * r_gt, r_true += r_gt * r_gt;
+    if (options.viewed_depth_m > 0) {
+      const double v_est = ((est[j] * viewed) - (est[i] * viewed)).norm();
+      const double v_gt = ((gt[j] * viewed) - (gt[i] * viewed)).norm();
+      v_cross += v_est * v_gt, v_true += v_gt * v_gt;
+      // Relative motions in camera i's frame (no alignment needed).
+      const Rigid3d rel_est = est[i].Inverse() * est[j];
+      const Rigid3d rel_gt = gt[i].Inverse() * gt[j];
+      const Eigen::Vector3d t_error = rel_est.translation - rel_gt.translation;
+      const Eigen::AngleAxisd w_est(rel_est.rotation), w_gt(rel_gt.rotation);
+      const Eigen::Vector3d w_error = w_est.angle() * w_est.axis() - w_gt.angle() * w_gt.axis();
+      error_squared += t_error.squaredNorm();
+      unexplained_squared += (t_error + w_error.cross(viewed)).squaredNorm();
+    }
   }
   metrics.motion_translation_ratio = t_true > 0 ? t_cross / t_true : 1.0;
   metrics.motion_rotation_ratio = r_true > 0 ? r_cross / r_true : 1.0;
+  if (options.viewed_depth_m > 0 && v_true > 0) {
+    metrics.viewed_depth_m = options.viewed_depth_m;
+    metrics.viewed_motion_ratio = v_cross / v_true;
+    metrics.turn_about_scene_share =
+        error_squared > 0 ? std::max(0.0, 1.0 - unexplained_squared / error_squared) : 0.0;
+  }
 
   // KITTI drift: cumulative ground-truth distance, then for every start
   // frame and length the first frame at least that far along the path.
@@ -214,6 +237,13 @@ std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
                 m.drift_trans_percent, m.drift_rot_deg_per_m, m.motion_lag,
                 m.motion_translation_ratio, m.motion_rotation_ratio);
   std::string out = buffer;
+  if (m.viewed_depth_m > 0) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "the point %.3f m ahead on the optical axis (the scene): moved %.4f of the "
+                  "truth; %.0f %% of the camera's translation error is a turn about it\n",
+                  m.viewed_depth_m, m.viewed_motion_ratio, 100.0 * m.turn_about_scene_share);
+    out += buffer;
+  }
   out += "drift lengths (m):";
   for (double length : m.drift_lengths_m) {
     std::snprintf(buffer, sizeof(buffer), " %.3g", length);

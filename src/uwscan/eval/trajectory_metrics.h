@@ -27,6 +27,10 @@ struct TrajectoryMetricsOptions {
   // Motion magnitudes between ground-truth frames this far apart (0: a
   // tenth of the associated poses).
   int motion_lag = 0;
+  // Distance from the camera to the scene along its optical axis (m; 0:
+  // unknown). When set, the metrics also tell the camera's motion from the
+  // motion of what it looks at (viewed_motion_ratio below).
+  double viewed_depth_m = 0.0;
   void Check() const;
 };
 
@@ -57,6 +61,18 @@ struct TrajectoryMetrics {
   // opposite directions; a focal-length error moves both alike.
   int motion_lag = 0;
   double motion_translation_ratio = 1.0, motion_rotation_ratio = 1.0;
+  // With options.viewed_depth_m (else 0 / 1): over the same pairs, the
+  // least-squares ratio, estimated over true, of how far the point
+  // viewed_depth_m ahead of the camera on its optical axis moved; and the
+  // share of the camera's relative translation error (squared, in the
+  // first camera's frame) that its rotation error explains as a turn about
+  // that point, t_error = -rotation_error x (0, 0, depth). Through a narrow
+  // field over a near-planar scene such a turn hardly changes the image or
+  // where the laser's profiles land (the bas-relief ambiguity): a share
+  // near 1 says the trajectory's error is of that kind.
+  double viewed_depth_m = 0.0;
+  double viewed_motion_ratio = 1.0;
+  double turn_about_scene_share = 0.0;
 };
 
 // Associates `estimate` with `ground_truth` by timestamp and computes the

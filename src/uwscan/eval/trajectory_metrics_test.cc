@@ -166,5 +166,54 @@ TEST(TrajectoryMetrics, MotionRatiosSeparateTranslationFromRotation) {
       << FormatTrajectoryMetrics(m);
 }
 
+// A hover whose estimate turns, now and then, about the point 2 m ahead
+// (the bas-relief error of a narrow field over a flat scene): the camera's
+// motion comes out too long or short, what it looks at moves exactly as in
+// the truth, and the translation error is all of that kind. A plain scale
+// error is none of it.
+TEST(TrajectoryMetrics, ViewedMotionSeparatesATurnAboutTheSceneFromAScaleError) {
+  const double depth = 2.0;
+  const Eigen::Vector3d viewed(0, 0, depth);
+  const auto rotation = [](const Eigen::Vector3d& v) {
+    return v.norm() > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(v.norm(), v.normalized()))
+                        : Eigen::Quaterniond::Identity();
+  };
+  std::vector<StampedPose> truth, turned, scaled;
+  for (int i = 0; i < 300; ++i) {
+    const double t = i / 144.0;
+    const Eigen::Vector3d p(0.02 * std::sin(5.0 * t), 0.015 * std::cos(4.1 * t),
+                            0.005 * std::sin(3.0 * t));
+    const Eigen::Vector3d w(0.008 * std::sin(4.3 * t), 0.01 * std::cos(3.2 * t),
+                            0.004 * std::sin(t));
+    const Rigid3d pose(rotation(w), p);
+    truth.push_back({t, pose});
+    // Turned about `viewed` (camera frame) by up to 1.5 mrad.
+    const Eigen::Quaterniond turn =
+        rotation(Eigen::Vector3d(0.0015 * std::sin(2.3 * t), 0.001 * std::cos(1.7 * t), 0));
+    turned.push_back({t, pose * Rigid3d(turn, viewed - turn * viewed)});
+    scaled.push_back({t, Rigid3d(pose.rotation, 1.02 * p)});
+  }
+  TrajectoryMetricsOptions options;
+  options.motion_lag = 30;
+  options.viewed_depth_m = depth;
+  const TrajectoryMetrics t = ComputeTrajectoryMetrics(turned, truth, options);
+  EXPECT_GT(std::abs(t.motion_translation_ratio - 1.0), 0.01);
+  EXPECT_NEAR(t.viewed_motion_ratio, 1.0, 1e-9);
+  EXPECT_GT(t.turn_about_scene_share, 0.99);
+  EXPECT_NE(FormatTrajectoryMetrics(t).find("the point 2.000 m ahead"), std::string::npos)
+      << FormatTrajectoryMetrics(t);
+  const TrajectoryMetrics s = ComputeTrajectoryMetrics(scaled, truth, options);
+  EXPECT_NEAR(s.motion_translation_ratio, 1.02, 1e-9);
+  EXPECT_LT(s.turn_about_scene_share, 0.01);
+  EXPECT_GT(s.viewed_motion_ratio, 1.0);  // the camera's part of the viewed point's motion
+  // Not asked for: not computed, not printed.
+  options.viewed_depth_m = 0.0;
+  const TrajectoryMetrics plain = ComputeTrajectoryMetrics(turned, truth, options);
+  EXPECT_EQ(plain.viewed_depth_m, 0.0);
+  EXPECT_EQ(FormatTrajectoryMetrics(plain).find("ahead"), std::string::npos);
+  options.viewed_depth_m = -1.0;
+  EXPECT_THROW(ComputeTrajectoryMetrics(turned, truth, options), Error);
+}
+
 }  // namespace
 }  // namespace uwscan

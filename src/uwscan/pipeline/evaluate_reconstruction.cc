@@ -35,6 +35,23 @@ std::map<int, Rigid3d> PosesByFrame(const fs::path& tum, const fs::path& frames_
   return by_frame;
 }
 
+double MedianViewedDepth(const fs::path& dataset) {
+  if (!fs::exists(dataset / "scene.yaml")) return 0.0;
+  sim::Scenario scenario = sim::LoadDatasetScenario(dataset);
+  scenario.config.scene.Prepare();
+  std::vector<double> depths;
+  for (const StampedPose& pose : ReadTum(dataset / "groundtruth.tum")) {
+    // The optical axis crosses the flat port at normal incidence: unbent.
+    const Rigid3d& world_from_camera = pose.world_from_camera;
+    const auto hit = scenario.config.scene.Intersect(
+        world_from_camera.translation, world_from_camera.rotation * Eigen::Vector3d::UnitZ());
+    if (hit) depths.push_back((hit->point_world - world_from_camera.translation).norm());
+  }
+  if (depths.empty()) return 0.0;
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  return depths[depths.size() / 2];
+}
+
 ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const fs::path& result) {
   UWS_CHECK(fs::exists(dataset / "scene.yaml"), (dataset / "scene.yaml").string(),
             ": missing: evaluation needs a simulated dataset with its scene");

@@ -23,6 +23,12 @@ struct ReconstructionEvaluation {
 std::map<int, Rigid3d> PosesByFrame(const std::filesystem::path& tum,
                                     const std::filesystem::path& frames_csv);
 
+// The median distance from the camera to the scene along its optical axis
+// over the true trajectory (m), for TrajectoryMetricsOptions::viewed_depth_m;
+// 0 when the dataset has no scene.yaml (not simulated) or the axis never
+// meets the scene.
+double MedianViewedDepth(const std::filesystem::path& dataset);
+
 ReconstructionEvaluation EvaluateReconstruction(const std::filesystem::path& dataset,
                                                 const std::filesystem::path& result);
 

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -74,6 +75,27 @@ TEST_F(ReconstructTest, TruePosesGiveMillimetreCloud) {
   // Without compensation the hovering motion shows.
   EXPECT_GT(evaluation.uncompensated.point_error_rms_m,
             2.0 * evaluation.compensated.point_error_rms_m);
+}
+
+// The distance to the scene along the optical axis, for the evaluation's
+// viewed-point motion: against the floor plane z = 0 met by each true axis
+// (the target on it stands 5 mm proud); 0 without a scene.
+TEST_F(ReconstructTest, MedianViewedDepthIsTheDistanceToTheFloor) {
+  std::vector<double> depths;
+  for (const StampedPose& pose : ReadTum(root_ / "data" / "groundtruth.tum")) {
+    const Eigen::Vector3d axis = pose.world_from_camera.rotation * Eigen::Vector3d::UnitZ();
+    ASSERT_LT(axis.z(), -0.9);  // looking down
+    depths.push_back(pose.world_from_camera.translation.z() / -axis.z());
+  }
+  std::sort(depths.begin(), depths.end());
+  const double expected = depths[depths.size() / 2];
+  EXPECT_GT(expected, 1.5);
+  EXPECT_NEAR(MedianViewedDepth(root_ / "data"), expected, 0.006);
+  const fs::path bare = root_ / "no_scene";
+  fs::create_directories(bare);
+  fs::copy_file(root_ / "data" / "groundtruth.tum", bare / "groundtruth.tum",
+                fs::copy_options::overwrite_existing);
+  EXPECT_EQ(MedianViewedDepth(bare), 0.0);
 }
 
 // A drifting external trajectory (INS-like) degrades the cloud measurably.
