@@ -52,7 +52,8 @@ void RegisterEvaluateCommand(CLI::App& app) {
   evaluate->add_option(
       "--result", *result,
       "output folder of reconstruct (trajectory.tum, cloud.ply, cloud_uncompensated.ply)");
-  evaluate->add_option("--json", *json_path, "also write the cloud evaluation as JSON here");
+  evaluate->add_option("--json", *json_path,
+                       "also write the figures as JSON here (trajectory; clouds with --result)");
   evaluate->add_option("--lengths", options->drift_lengths_m,
                        "drift path lengths in m (default: 10..50 % of the path)");
   evaluate->add_option("--rpe-step", options->rpe_step, "RPE frame step")->capture_default_str();
@@ -89,12 +90,17 @@ void RegisterEvaluateCommand(CLI::App& app) {
         ComputeTrajectoryMetrics(estimate.poses, truth.poses, *options);
     std::printf("trajectory %s vs %s (%zu gaps marked)\n%s", estimate_path.c_str(),
                 truth_path.c_str(), estimate.gaps.size(), FormatTrajectoryMetrics(metrics).c_str());
+    nlohmann::json json = {{"trajectory", metrics.ToJson()}};
+    json["trajectory"]["estimate"] = estimate_path.string();
+    json["trajectory"]["ground_truth"] = truth_path.string();
+    json["trajectory"]["gaps_marked"] = estimate.gaps.size();
     if (!result->empty() && fs::exists(fs::path(*dataset) / "scene.yaml") &&
         fs::exists(fs::path(*result) / "cloud.ply")) {
       const auto evaluation = EvaluateReconstruction(*dataset, *result);
       PrintCloudEvaluation(evaluation);
-      if (!json_path->empty()) WriteFileAtomic(*json_path, evaluation.ToJson().dump(2) + "\n");
+      json.update(evaluation.ToJson());  // "compensated", "uncompensated"
     }
+    if (!json_path->empty()) WriteFileAtomic(*json_path, json.dump(2) + "\n");
   });
 }
 

@@ -35,6 +35,16 @@ grep -q "^the point 2.000 m ahead on the optical axis (the scene): moved [0-9.]*
 "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --viewed-depth -1 2>"$dir/err" >/dev/null
 [ $? -eq 2 ] || fail "--viewed-depth -1: want exit 2"
 grep -q -- "--viewed-depth must be" "$dir/err" || fail "--viewed-depth error does not say why"
+# --json with a trajectory alone: the trajectory's figures; an unwritable
+# place is an error that names it.
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --json "$dir/e.json" >/dev/null \
+  || fail "evaluate --json"
+grep -q '"trajectory": {' "$dir/e.json" || fail "no trajectory in the JSON"
+grep -q '"translation_ratio": [0-9.]' "$dir/e.json" || fail "no motion ratio in the JSON"
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --json "$dir/no/such/e.json" \
+  >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] || fail "--json into a missing folder: want exit 1"
+grep -q "$dir/no/such/e.json" "$dir/err" || fail "--json error does not name the file: $(cat "$dir/err")"
 
 # The summary says how many windowed BA solves the time limit stopped.
 grep -q "^windowed BA: [0-9]* solves, [0-9]* stopped by the 0.20 s time limit" "$dir/log" \

@@ -221,6 +221,43 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   return metrics;
 }
 
+nlohmann::json TrajectoryMetrics::ToJson() const {
+  nlohmann::json json = {
+      {"associated", associated},
+      {"path_length_m", path_length_m},
+      {"sim3",
+       {{"scale", alignment.scale},
+        {"scale_interval_95", {scale_interval_low, scale_interval_high}},
+        {"rotation_wxyz",
+         {alignment.rotation.w(), alignment.rotation.x(), alignment.rotation.y(),
+          alignment.rotation.z()}},
+        {"translation_m",
+         {alignment.translation.x(), alignment.translation.y(), alignment.translation.z()}}}},
+      {"ate_m",
+       {{"rmse", ate_rmse_m}, {"mean", ate_mean_m}, {"median", ate_median_m}, {"max", ate_max_m}}},
+      {"rpe",
+       {{"pairs", rpe_pairs},
+        {"translation_rmse_m", rpe_trans_rmse_m},
+        {"rotation_rmse_deg", rpe_rot_rmse_deg},
+        {"translation_mean_m", rpe_trans_mean_m},
+        {"rotation_mean_deg", rpe_rot_mean_deg}}},
+      {"drift",
+       {{"segments", drift_segments},
+        {"translation_percent", drift_trans_percent},
+        {"rotation_deg_per_m", drift_rot_deg_per_m},
+        {"lengths_m", drift_lengths_m}}},
+      {"motion",
+       {{"lag_frames", motion_lag},
+        {"translation_ratio", motion_translation_ratio},
+        {"rotation_ratio", motion_rotation_ratio}}}};
+  if (viewed_depth_m > 0) {
+    json["motion"]["viewed_depth_m"] = viewed_depth_m;
+    json["motion"]["viewed_point_ratio"] = viewed_motion_ratio;
+    json["motion"]["turn_about_scene_share"] = turn_about_scene_share;
+  }
+  return json;
+}
+
 std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
   char buffer[1024];
   std::snprintf(buffer, sizeof(buffer),

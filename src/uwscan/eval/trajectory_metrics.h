@@ -5,6 +5,7 @@
 // estimate mapped by the Sim(3) that best aligns its positions.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,6 +74,9 @@ struct TrajectoryMetrics {
   double viewed_depth_m = 0.0;
   double viewed_motion_ratio = 1.0;
   double turn_about_scene_share = 0.0;
+  // Every figure above, in metres and degrees (`uwscan evaluate --json`);
+  // the viewed-point figures only when computed.
+  nlohmann::json ToJson() const;
 };
 
 // Associates `estimate` with `ground_truth` by timestamp and computes the

@@ -206,11 +206,21 @@ TEST(TrajectoryMetrics, ViewedMotionSeparatesATurnAboutTheSceneFromAScaleError) 
   EXPECT_NEAR(s.motion_translation_ratio, 1.02, 1e-9);
   EXPECT_LT(s.turn_about_scene_share, 0.01);
   EXPECT_GT(s.viewed_motion_ratio, 1.0);  // the camera's part of the viewed point's motion
+  const nlohmann::json json = t.ToJson();
+  EXPECT_EQ(json["motion"]["lag_frames"], 30);
+  EXPECT_DOUBLE_EQ(json["motion"]["translation_ratio"].get<double>(), t.motion_translation_ratio);
+  EXPECT_DOUBLE_EQ(json["motion"]["viewed_point_ratio"].get<double>(), t.viewed_motion_ratio);
+  EXPECT_DOUBLE_EQ(json["motion"]["turn_about_scene_share"].get<double>(),
+                   t.turn_about_scene_share);
+  EXPECT_DOUBLE_EQ(json["sim3"]["scale"].get<double>(), t.alignment.scale);
+  EXPECT_DOUBLE_EQ(json["ate_m"]["rmse"].get<double>(), t.ate_rmse_m);
+  EXPECT_EQ(json["associated"], 300);
   // Not asked for: not computed, not printed.
   options.viewed_depth_m = 0.0;
   const TrajectoryMetrics plain = ComputeTrajectoryMetrics(turned, truth, options);
   EXPECT_EQ(plain.viewed_depth_m, 0.0);
   EXPECT_EQ(FormatTrajectoryMetrics(plain).find("ahead"), std::string::npos);
+  EXPECT_FALSE(plain.ToJson()["motion"].contains("viewed_point_ratio"));
   options.viewed_depth_m = -1.0;
   EXPECT_THROW(ComputeTrajectoryMetrics(turned, truth, options), Error);
 }

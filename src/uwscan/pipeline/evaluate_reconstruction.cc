@@ -41,7 +41,8 @@ double MedianViewedDepth(const fs::path& dataset) {
   scenario.config.scene.Prepare();
   std::vector<double> depths;
   for (const StampedPose& pose : ReadTum(dataset / "groundtruth.tum")) {
-    // The optical axis crosses the flat port at normal incidence: unbent.
+    // The optical axis taken straight: a flat port facing the camera, as
+    // the simulator's, does not bend it.
     const Rigid3d& world_from_camera = pose.world_from_camera;
     const auto hit = scenario.config.scene.Intersect(
         world_from_camera.translation, world_from_camera.rotation * Eigen::Vector3d::UnitZ());
