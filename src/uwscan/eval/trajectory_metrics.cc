@@ -174,8 +174,9 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
       const Rigid3d rel_est = est[i].Inverse() * est[j];
       const Rigid3d rel_gt = gt[i].Inverse() * gt[j];
       const Eigen::Vector3d t_error = rel_est.translation - rel_gt.translation;
-      const Eigen::AngleAxisd w_est(rel_est.rotation), w_gt(rel_gt.rotation);
-      const Eigen::Vector3d w_error = w_est.angle() * w_est.axis() - w_gt.angle() * w_gt.axis();
+      // The rotation error in camera i's frame, rel_est = error * rel_gt.
+      const Eigen::AngleAxisd error(rel_est.rotation * rel_gt.rotation.conjugate());
+      const Eigen::Vector3d w_error = error.angle() * error.axis();
       error_squared += t_error.squaredNorm();
       unexplained_squared += (t_error + w_error.cross(viewed)).squaredNorm();
     }
