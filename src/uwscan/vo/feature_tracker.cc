@@ -1,9 +1,9 @@
 #include "uwscan/vo/feature_tracker.h"
 
 #include <algorithm>
-#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <optional>
 #include <unordered_set>
 
 #include "uwscan/util/error.h"
@@ -18,6 +18,7 @@ void FeatureTrackerOptions::Check() const {
   UWS_CHECK(klt_window_px >= 5 && klt_window_px % 2 == 1, "klt_window_px must be odd and >= 5");
   UWS_CHECK(klt_pyramid_levels >= 0 && klt_pyramid_levels <= 6, "klt_pyramid_levels in 0..6");
   UWS_CHECK(klt_predicted_levels <= 6, "klt_predicted_levels must be <= 6");
+  UWS_CHECK(anchor_keep_keyframes >= 0, "anchor_keep_keyframes must be >= 0");
   UWS_CHECK(forward_backward_px > 0, "forward_backward_px must be > 0");
   UWS_CHECK(border_px >= 0, "border_px must be >= 0");
   UWS_CHECK(max_dormant_frames >= 0, "max_dormant_frames must be >= 0");
@@ -33,6 +34,7 @@ FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(
 
 void FeatureTracker::Reset() {
   anchor_pyramid_.reset();
+  refinement_anchors_.clear();
   anchor_mask_.release();
   tracks_.clear();
   dormant_.clear();
@@ -95,8 +97,12 @@ class NeighbourFlow {
  public:
   NeighbourFlow(const std::vector<Eigen::Vector2d>& from, const std::vector<Eigen::Vector2d>& to,
                 int neighbours)
-      : from_(from), to_(to), k_(std::min(from.size(), size_t(neighbours))),
-        nearest_(from.size()), dx_(k_), dy_(k_) {}
+      : from_(from),
+        to_(to),
+        k_(std::min(from.size(), size_t(neighbours))),
+        nearest_(from.size()),
+        dx_(k_),
+        dy_(k_) {}
   std::optional<Eigen::Vector2d> At(const Eigen::Vector2d& p) {
     if (k_ < 3) return std::nullopt;
     for (size_t j = 0; j < from_.size(); ++j) nearest_[j] = {(from_[j] - p).squaredNorm(), j};
@@ -373,39 +379,65 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
   dormant_.resize(w);
 }
 
-void FeatureTracker::SetAnchor(const cv::Mat& mask) {
+void FeatureTracker::SetAnchor(const cv::Mat& mask, bool view_moved) {
   anchor_pyramid_ = previous_pyramid_;
   anchor_mask_ = mask.clone();
+  std::unordered_map<uint64_t, RefinementAnchor> refinement;
   for (auto& t : tracks_) {
     t.anchored = true;
     t.anchor_pixel = t.pixel;
+    const auto it = refinement_anchors_.find(t.id);
+    if (!view_moved && it != refinement_anchors_.end() &&
+        it->second.keyframes < options_.anchor_keep_keyframes) {
+      RefinementAnchor kept = it->second;
+      ++kept.keyframes;
+      refinement.emplace(t.id, std::move(kept));
+    } else {
+      refinement.emplace(t.id, RefinementAnchor{anchor_pyramid_, t.pixel, 0});
+    }
   }
+  refinement_anchors_.swap(refinement);
 }
 
 void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
                                       const cv::TermCriteria& criteria,
                                       std::vector<cv::Point2f>* current) {
-  std::vector<cv::Point2f> from, to;
-  std::vector<size_t> index;
+  // The tracks by the anchor image they are refined from: their own kept
+  // one (anchor_keep_keyframes), else the last keyframe's.
+  std::vector<std::pair<const std::vector<cv::Mat>*, std::vector<size_t>>> groups;
+  std::unordered_map<const std::vector<cv::Mat>*, size_t> group_of;
+  std::vector<cv::Point2f> from(tracks_.size());
   for (size_t i = 0; i < tracks_.size(); ++i) {
-    if (!tracks_[i].anchored) continue;
-    from.emplace_back(float(tracks_[i].anchor_pixel.x()), float(tracks_[i].anchor_pixel.y()));
-    to.push_back((*current)[i]);
-    index.push_back(i);
+    const FeatureTrack& t = tracks_[i];
+    if (!t.anchored) continue;
+    const std::vector<cv::Mat>* image = anchor_pyramid_.get();
+    Eigen::Vector2d pixel = t.anchor_pixel;
+    const auto kept = refinement_anchors_.find(t.id);
+    if (kept != refinement_anchors_.end()) {
+      image = kept->second.pyramid.get();
+      pixel = kept->second.pixel;
+    }
+    from[i] = cv::Point2f(float(pixel.x()), float(pixel.y()));
+    const auto [it, added] = group_of.emplace(image, groups.size());
+    if (added) groups.push_back({image, {}});
+    groups[it->second].second.push_back(i);
   }
-  if (from.empty()) return;
-  std::vector<uint8_t> status;
-  std::vector<float> error;
-  // The frame-to-frame position starts within a pixel or so of the answer
-  // (a larger correction is refused below): full resolution only, a quarter
-  // of the work of the pyramid.
-  cv::calcOpticalFlowPyrLK(*anchor_pyramid_, pyramid, from, to, status, error, window, 0, criteria,
-                           cv::OPTFLOW_USE_INITIAL_FLOW);
-  for (size_t k = 0; k < index.size(); ++k) {
-    cv::Point2f& p = (*current)[index[k]];
-    if (status[k] && std::isfinite(to[k].x) && std::isfinite(to[k].y) &&
-        cv::norm(to[k] - p) <= options_.anchor_max_correction_px) {
-      p = to[k];
+  for (const auto& [image, members] : groups) {
+    std::vector<cv::Point2f> start, to;
+    for (size_t i : members) start.push_back(from[i]), to.push_back((*current)[i]);
+    std::vector<uint8_t> status;
+    std::vector<float> error;
+    // The frame-to-frame position starts within a pixel or so of the
+    // answer (a larger correction is refused below): full resolution only,
+    // a quarter of the work of the pyramid.
+    cv::calcOpticalFlowPyrLK(*image, pyramid, start, to, status, error, window, 0, criteria,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t k = 0; k < members.size(); ++k) {
+      cv::Point2f& p = (*current)[members[k]];
+      if (status[k] && std::isfinite(to[k].x) && std::isfinite(to[k].y) &&
+          cv::norm(to[k] - p) <= options_.anchor_max_correction_px) {
+        p = to[k];
+      }
     }
   }
 }

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <unordered_map>
 #include <vector>
 
 namespace uwscan::vo {
@@ -49,6 +50,14 @@ struct FeatureTrackerOptions {
   // sub-pixel errors do not add up between keyframes.
   bool anchor_refinement = true;
   double anchor_max_correction_px = 1.0;
+  // ... and from the anchor the track was first refined from, for up to
+  // this many keyframes after it (0: always the last keyframe's) while the
+  // view stays (SetAnchor's view_moved): each re-anchoring adds the
+  // refinement's error of that moment, a track kept on its first anchor
+  // does not collect them. On the tank hovers the tracks' median error went
+  // 0.38 -> 0.25 px (BENCHMARKS.md, "First anchors"). The anchor images
+  // stay in memory meanwhile: at most this many more pyramids.
+  int anchor_keep_keyframes = 8;
   // Re-association of tracks lost on the mask or by KLT: frames a lost
   // track stays dormant (0 = off), neighbours whose median flow carries its
   // predicted position, and how far KLT may move it from that prediction.
@@ -90,8 +99,11 @@ class FeatureTracker {
   // Forgets all features and the previous image.
   void Reset();
   // Makes the current image the anchor of all current tracks; `mask` is
-  // the mask Track received with it (empty: none).
-  void SetAnchor(const cv::Mat& mask = cv::Mat());
+  // the mask Track received with it (empty: none). The refinement of a
+  // track keeps its earlier anchor for up to anchor_keep_keyframes calls,
+  // unless `view_moved` (a keyframe made for parallax: the patches' look
+  // has changed more than the re-anchorings' error it would save).
+  void SetAnchor(const cv::Mat& mask = cv::Mat(), bool view_moved = false);
   void RemoveTracks(const std::vector<uint64_t>& ids);
 
   const std::vector<FeatureTrack>& tracks() const { return tracks_; }
@@ -104,9 +116,9 @@ class FeatureTracker {
  private:
   using Pyramid = std::shared_ptr<const std::vector<cv::Mat>>;
   struct DormantTrack {
-    FeatureTrack track;          // as last seen; track.pixel is carried by the flow
-    Pyramid anchor;              // the image track.anchor_pixel refers to
-    int frames = 0;              // frames dormant
+    FeatureTrack track;  // as last seen; track.pixel is carried by the flow
+    Pyramid anchor;      // the image track.anchor_pixel refers to
+    int frames = 0;      // frames dormant
   };
   FeatureTrackerOptions options_;
   std::vector<FeatureTrack> tracks_;
@@ -114,6 +126,14 @@ class FeatureTracker {
   Pyramid previous_pyramid_;
   Pyramid anchor_pyramid_;
   cv::Mat anchor_mask_;  // the anchor image's mask
+  // Per track id, the anchor its refinement runs from
+  // (anchor_keep_keyframes): image, position there, keyframes since.
+  struct RefinementAnchor {
+    Pyramid pyramid;
+    Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+    int keyframes = 0;
+  };
+  std::unordered_map<uint64_t, RefinementAnchor> refinement_anchors_;
   // Refines the frame-to-frame positions `current` (one per track) by KLT
   // from the anchor image, for the tracks seen there.
   void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,

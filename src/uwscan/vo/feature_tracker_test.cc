@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "uwscan/vo/odometry.h"
 #include "uwscan/vo/testing/plane_renderer.h"
 
@@ -54,6 +56,62 @@ TEST_F(FeatureTrackerTest, TracksRenderedMotionWithKnownFlow) {
   std::sort(errors.begin(), errors.end());
   EXPECT_LT(errors[errors.size() / 2], 0.1);         // median
   EXPECT_LT(errors[errors.size() * 95 / 100], 0.3);  // 95th percentile
+}
+
+// A hover (millimetres, milliradians) with an anchor every 5 frames, as
+// keyframes, and sensor noise (8 grey levels) on every frame: a track
+// refined from its first anchor ends nearer the truth than one re-anchored
+// at every keyframe, which collects the refinement's error of each
+// re-anchoring (median 0.10 vs 0.17 px after 24). Keyframes made because
+// the view moved renew the anchors as if none were kept.
+TEST_F(FeatureTrackerTest, AKeptFirstAnchorCollectsNoErrorAtKeyframes) {
+  const auto run = [&](int keep, bool view_moved) {
+    FeatureTrackerOptions options;
+    options.anchor_keep_keyframes = keep;
+    FeatureTracker tracker(options);
+    cv::RNG rng(7);
+    const auto render = [&](int i) {
+      const double s = i / 30.0;
+      const Rigid3d pose = testing::DownwardPose(
+          {0.004 * std::sin(2.1 * s), 0.003 * std::cos(1.3 * s), 2.0 + 0.002 * std::sin(s)},
+          0.003 * std::sin(1.7 * s), 0.01 + 0.002 * std::cos(2.3 * s));
+      cv::Mat image = renderer_.Render(pose), noise(image.size(), CV_16S);
+      rng.fill(noise, cv::RNG::NORMAL, 0, 8.0);
+      cv::Mat noisy;
+      image.convertTo(noisy, CV_16S);
+      noisy += noise;
+      noisy.convertTo(image, CV_8U);
+      return std::pair{image, pose};
+    };
+    const auto [first, pose0] = render(0);
+    tracker.Track(first, cv::Mat());
+    tracker.Detect(cv::Mat());
+    tracker.SetAnchor();
+    std::map<uint64_t, Eigen::Vector3d> points;
+    for (const FeatureTrack& t : tracker.tracks()) {
+      if (const auto p = renderer_.PointAt(pose0, t.pixel)) points[t.id] = *p;
+    }
+    Rigid3d last = pose0;
+    for (int i = 1; i <= 120; ++i) {
+      const auto [image, pose] = render(i);
+      tracker.Track(image, cv::Mat());
+      if (i % 5 == 0) tracker.SetAnchor(cv::Mat(), view_moved);
+      last = pose;
+    }
+    std::vector<double> errors;
+    for (const FeatureTrack& t : tracker.tracks()) {
+      const auto it = points.find(t.id);
+      if (it == points.end()) continue;
+      const auto expected = camera_.Project(last.Inverse() * it->second);
+      if (expected) errors.push_back((*expected - t.pixel).norm());
+    }
+    EXPECT_GT(errors.size(), 100u);
+    std::sort(errors.begin(), errors.end());
+    return errors[errors.size() / 2];
+  };
+  const double re_anchored = run(0, false), kept = run(30, false);
+  EXPECT_LT(kept, 0.7 * re_anchored) << "median error " << kept << " vs " << re_anchored << " px";
+  EXPECT_EQ(run(30, true), re_anchored);
 }
 
 // Smooth motion is followed from each track's predicted position at full

@@ -320,7 +320,7 @@ void Odometry::Initialize(const cv::Mat& mask, FrameResult* result) {
   reference_.reset();
   tracker_.RemoveTracks(outliers);
   tracker_.Detect(mask, &result->tracking);
-  tracker_.SetAnchor(mask);
+  tracker_.SetAnchor(mask, /*view_moved=*/true);  // two views with parallax
   for (const auto& t : tracker_.tracks()) map_.keyframes[1].observations[t.id] = t.pixel;
 }
 
@@ -424,11 +424,11 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& pa
     const auto it = last.observations.find(tr.id);
     if (it != last.observations.end()) flow.push_back((tr.pixel - it->second).norm());
   }
+  const bool view_moved = Median(flow) > options_.keyframe_parallax_fraction * camera_.width;
   const bool keyframe =
       (options_.max_frames_between_keyframes > 0 &&
        result->frame_index - last.frame_index >= options_.max_frames_between_keyframes) ||
-      Median(flow) > options_.keyframe_parallax_fraction * camera_.width ||
-      inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
+      view_moved || inliers < options_.keyframe_min_tracked_ratio * last_keyframe_inliers_ ||
       (options_.keyframe_on_range_constraints && !passed_ranges.empty());
   if (!keyframe) return;
   std::vector<RangeConstraint> ranges = passed_ranges;
@@ -437,11 +437,12 @@ void Odometry::Track(const cv::Mat& mask, const std::vector<RangeConstraint>& pa
     ranges.insert(ranges.end(), found.begin(), found.end());
     result->line_ranges = int(found.size());
   }
-  AddKeyframe(camera_from_world, mask, ranges, result);
+  AddKeyframe(camera_from_world, mask, ranges, view_moved, result);
 }
 
 void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
-                           const std::vector<RangeConstraint>& ranges, FrameResult* result) {
+                           const std::vector<RangeConstraint>& ranges, bool view_moved,
+                           FrameResult* result) {
   // The BA in flight joins the map before this keyframe's points and
   // surface measurements change it.
   MergeBundleAdjustment(result);
@@ -455,7 +456,7 @@ void Odometry::AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask
   for (const auto& t : tracker_.tracks()) kf.observations[t.id] = t.pixel;
   kf.range_constraints = ranges;
   map_.keyframes.push_back(std::move(kf));
-  tracker_.SetAnchor(mask);
+  tracker_.SetAnchor(mask, view_moved);
 
   // Triangulate tracks seen in earlier keyframes of the window but not yet
   // in the map, from all their keyframe rays (widest baseline included).

@@ -197,8 +197,10 @@ class Odometry {
                                            double* rms_px) const;
   void SetReference(int frame_index);
   void MarkLost(const std::string& why, FrameResult* result);
+  // `view_moved`: made for parallax (FeatureTracker::SetAnchor).
   void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
-                   const std::vector<RangeConstraint>& ranges, FrameResult* result);
+                   const std::vector<RangeConstraint>& ranges, bool view_moved,
+                   FrameResult* result);
   void PruneMap();
   // See OdometryOptions::max_extrapolated_disagreement_px.
   bool ExtrapolatedDepthAgrees(const Keyframe& keyframe, uint64_t id,
