@@ -107,7 +107,8 @@ void RegisterBenchCommands(CLI::App& app) {
   tracks->add_option("--frames", tracks_options->frames, "frames (0 = all)")->capture_default_str();
   tracks
       ->add_option("--anchor-every", tracks_options->anchor_every,
-                   "frames between the tracker's anchors (as keyframes)")
+                   "frames between the tracker's anchors (as a hover's keyframes: tracks "
+                   "keep their first anchors)")
       ->capture_default_str();
   tracks
       ->add_option("--contrast-scale", tracks_options->contrast_scale,
