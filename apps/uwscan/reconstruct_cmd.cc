@@ -133,6 +133,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                 "diagnostics on simulated datasets: the odometry's features take their depth "
                 "from the simulator's true scene instead of the laser surface (what the "
                 "odometry does with a perfect depth model)");
+  cmd->add_flag("--oracle-tracks", job->oracle_tracks,
+                "diagnostics on simulated datasets: each feature track is moved in every frame "
+                "to where the simulator's true scene point at its first pixel projects (what the "
+                "odometry does with perfect tracks)");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
   cmd->callback([=] {
     job->dataset = *dataset;

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <unordered_map>
 
 #include "uwscan/util/error.h"
 #include "uwscan/util/statistics.h"
@@ -365,6 +366,7 @@ bool SelfReferencedPoseProvider::StartOdometry(const Rigid3d& origin) {
       return vo::SurfaceHit{world_from_truth * *hit, sigma, false};
     };
   }
+  if (options_.track_oracle) odometry_options.true_track_pixel = TrueTrackPixels();
   odometry_ = std::make_unique<vo::Odometry>(tracking_camera_, odometry_options);
   const Held& first = held_.front();
   const vo::FrameResult start = odometry_->InitializeFromSurface(first.input.image, first.mask,
@@ -372,6 +374,30 @@ bool SelfReferencedPoseProvider::StartOdometry(const Rigid3d& origin) {
   if (start.status == vo::FrameStatus::kTracked) return true;
   odometry_.reset();
   return false;
+}
+
+std::function<std::optional<Eigen::Vector2d>(const vo::FeatureTrack&, double)>
+SelfReferencedPoseProvider::TrueTrackPixels() const {
+  // The scene point of each track: where its pixel's ray meets the true
+  // scene at the first time it is asked for (the frame it was detected in),
+  // from the true pose then; none if the ray misses the scene.
+  auto points = std::make_shared<std::unordered_map<uint64_t, std::optional<Eigen::Vector3d>>>();
+  return [truth = options_.track_oracle, camera = tracking_camera_, points](
+             const vo::FeatureTrack& track, double timestamp_s) -> std::optional<Eigen::Vector2d> {
+    const auto world_from_camera = truth->true_pose(timestamp_s);
+    if (!world_from_camera) return std::nullopt;
+    auto [it, first] = points->try_emplace(track.id);
+    if (first) {
+      const auto ray = camera.BackProject(track.pixel);
+      if (ray) {
+        it->second = truth->intersect(*world_from_camera * ray->origin,
+                                      world_from_camera->rotation * ray->direction);
+      }
+      return std::nullopt;
+    }
+    if (!it->second) return std::nullopt;
+    return camera.Project(world_from_camera->Inverse() * *it->second);
+  };
 }
 
 void SelfReferencedPoseProvider::Restart() {

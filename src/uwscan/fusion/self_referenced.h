@@ -25,11 +25,12 @@
 
 namespace uwscan::fusion {
 
-// Diagnostics on simulated data (`uwscan reconstruct --oracle-depths`): the
-// true scene and trajectory, so that features can take their depth from the
-// truth instead of the laser surface: what the odometry does with a perfect
-// depth model.
-struct DepthOracle {
+// Diagnostics on simulated data (`uwscan reconstruct --oracle-depths`,
+// `--oracle-tracks`): the true scene and trajectory, so that features can
+// take their depth from the truth instead of the laser surface, or be
+// tracked without error: what the odometry does with a perfect depth model
+// or perfect tracks.
+struct SimulatorTruth {
   // The true world_from_camera of the tracked camera at a timestamp.
   std::function<std::optional<Rigid3d>(double timestamp_s)> true_pose;
   // The nearest point where a ray of the true world meets the scene.
@@ -87,9 +88,13 @@ struct SelfReferencedOptions {
   // real time (BENCHMARKS.md). 1: every frame. `uwscan reconstruct` sets
   // it from the frame rate (ReconstructJob::track_every).
   int track_every = 1;
-  // When set, features take their depth from the truth (DepthOracle), not
+  // When set, features take their depth from the truth (SimulatorTruth), not
   // from the laser surface; the surface still decides when the map starts.
-  std::shared_ptr<const DepthOracle> depth_oracle;
+  std::shared_ptr<const SimulatorTruth> depth_oracle;
+  // When set, each feature track is moved in every frame to where the
+  // scene point seen at its first pixel (with the true pose of that frame)
+  // truly projects; no tracking error is left.
+  std::shared_ptr<const SimulatorTruth> track_oracle;
   // A later pass over the same frames (`uwscan reconstruct --passes 2|3`):
   // the surface the pass before measured over the whole scan, and the frame
   // the first pass's map started at, which is this pass's origin too. The
@@ -196,6 +201,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // A new odometry on surface_, started at the first held frame; false (and
   // no odometry) if it cannot start there.
   bool StartOdometry(const Rigid3d& origin);
+  // OdometryOptions::true_track_pixel from options_.track_oracle.
+  std::function<std::optional<Eigen::Vector2d>(const vo::FeatureTrack&, double)> TrueTrackPixels()
+      const;
   // Held frame i's pose_guess, else that of the nearest earlier frame with
   // one, else `origin` (the first held frame's pose).
   Rigid3d PoseGuess(size_t i, const Rigid3d& origin) const;

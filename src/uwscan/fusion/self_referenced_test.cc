@@ -11,7 +11,9 @@
 #include <map>
 #include <opencv2/imgproc.hpp>
 
+#include "uwscan/eval/trajectory_metrics.h"
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/io/tum.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/sim/simulate.h"
@@ -225,6 +227,32 @@ TEST(SelfReferencedPoseProvider, OracleDepthsComeFromTheSimulatorsTruth) {
     EXPECT_NE(std::string(e.what()).find("scene.yaml"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(job.out / "cloud.ply"));
+  fs::remove_all(root);
+}
+
+// --oracle-tracks (diagnostics): every feature track is moved to where the
+// scene point seen at its first pixel truly projects. Without tracking
+// error the trajectory must be clearly closer to the truth than with the
+// tracks of the images, and the option names itself in the report.
+TEST(SelfReferencedPoseProvider, OracleTracksRemoveTheTrackingError) {
+  ReconstructJob job = SimulatedHover("oracle_tracks", 80, 9);
+  const fs::path root = job.dataset.parent_path();
+  const auto truth = ReadTum(job.dataset / "groundtruth.tum");
+  std::map<bool, TrajectoryMetrics> metrics;
+  for (const bool oracle : {false, true}) {
+    job.out = root / (oracle ? "oracle" : "tracked");
+    job.oracle_tracks = oracle;
+    const ReconstructReport report = RunReconstruct(job);
+    EXPECT_EQ(report.pose_source.find("--oracle-tracks") != std::string::npos, oracle)
+        << report.pose_source;
+    EXPECT_LT(report.frames_without_pose, 25);
+    metrics[oracle] = ComputeTrajectoryMetrics(ReadTum(job.out / "trajectory.tum"), truth);
+  }
+  std::printf("RPE per frame %.3f mm %.2f mdeg tracked, %.3f mm %.2f mdeg true tracks\n",
+              1e3 * metrics[false].rpe_trans_rmse_m, 1e3 * metrics[false].rpe_rot_rmse_deg,
+              1e3 * metrics[true].rpe_trans_rmse_m, 1e3 * metrics[true].rpe_rot_rmse_deg);
+  EXPECT_LT(metrics[true].rpe_rot_rmse_deg, 0.5 * metrics[false].rpe_rot_rmse_deg);
+  EXPECT_LT(metrics[true].rpe_trans_rmse_m, 0.5 * metrics[false].rpe_trans_rmse_m);
   fs::remove_all(root);
 }
 
@@ -449,8 +477,7 @@ TEST(SelfReferencedPoseProvider, ContrastEqualisationEvensOutTheLightsFallOff) {
   rng.fill(flat, cv::RNG::NORMAL, 100.0, 1.0);
   cv::Scalar mean, plain_sd, even_sd;
   cv::meanStdDev(SelfReferencedPoseProvider::NormalizeIllumination(flat, 3.2), mean, plain_sd);
-  cv::meanStdDev(SelfReferencedPoseProvider::NormalizeIllumination(flat, 3.2, 16.0), mean,
-                 even_sd);
+  cv::meanStdDev(SelfReferencedPoseProvider::NormalizeIllumination(flat, 3.2, 16.0), mean, even_sd);
   EXPECT_LT(even_sd[0], 1.2 * plain_sd[0]);
   // A black frame stays black.
   const cv::Mat black(240, 320, CV_8U, cv::Scalar(0));

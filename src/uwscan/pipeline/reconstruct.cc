@@ -184,16 +184,18 @@ std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& ri
   return others;
 }
 
-// The simulator's truth for --oracle-depths: scene and true trajectory.
-std::shared_ptr<const fusion::DepthOracle> LoadDepthOracle(const fs::path& dataset) {
+// The simulator's truth for --oracle-depths and --oracle-tracks (`flag`):
+// scene and true trajectory.
+std::shared_ptr<const fusion::SimulatorTruth> LoadSimulatorTruth(const fs::path& dataset,
+                                                                 const std::string& flag) {
   UWS_CHECK(fs::exists(dataset / "scene.yaml"), (dataset / "scene.yaml").string(),
-            ": missing: --oracle-depths needs a simulated dataset with its scene");
+            ": missing: ", flag, " needs a simulated dataset with its scene");
   UWS_CHECK(fs::exists(dataset / "groundtruth.tum"), (dataset / "groundtruth.tum").string(),
-            ": missing: --oracle-depths needs the true trajectory");
+            ": missing: ", flag, " needs the true trajectory");
   auto scenario = std::make_shared<sim::Scenario>(sim::LoadDatasetScenario(dataset));
   scenario->config.scene.Prepare();
   auto truth = std::make_shared<std::vector<StampedPose>>(ReadTum(dataset / "groundtruth.tum"));
-  auto oracle = std::make_shared<fusion::DepthOracle>();
+  auto oracle = std::make_shared<fusion::SimulatorTruth>();
   oracle->true_pose = [truth](double timestamp_s) {
     return fusion::InterpolatePose(*truth, timestamp_s, 0.01);
   };
@@ -258,7 +260,10 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     options.contrast_sigma_fraction =
         job.contrast_scale.value_or(sweeps ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
     report.contrast_scale = options.contrast_sigma_fraction;
-    if (job.oracle_depths) options.depth_oracle = LoadDepthOracle(job.dataset);
+    if (job.oracle_depths)
+      options.depth_oracle = LoadSimulatorTruth(job.dataset, "--oracle-depths");
+    if (job.oracle_tracks)
+      options.track_oracle = LoadSimulatorTruth(job.dataset, "--oracle-tracks");
     if (prior) {
       options.prior_surface = prior->surface;
       options.prior_first_frame = prior->first_frame;
@@ -280,6 +285,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   report.pose_source = provider->Name();
   if (job.oracle_depths)
     report.pose_source += " (feature depths from the simulator's truth: --oracle-depths)";
+  if (job.oracle_tracks)
+    report.pose_source += " (feature tracks from the simulator's truth: --oracle-tracks)";
   report.scan_lines = line_stage.ScanLines();
   const double frame_interval = MeanFrameInterval(frames);
   report.sequence_duration_s =

@@ -68,8 +68,11 @@ struct ReconstructJob {
   bool quiet = false;
   // Diagnostics on simulated datasets: the odometry's features take their
   // depth from the simulator's true scene (scene.yaml, groundtruth.tum)
-  // instead of the laser surface (fusion::DepthOracle).
+  // instead of the laser surface (fusion::SimulatorTruth).
   bool oracle_depths = false;
+  // Diagnostics on simulated datasets: the odometry's feature tracks are
+  // moved to where the simulator's true scene point of each projects.
+  bool oracle_tracks = false;
   // Passes of the self-referenced odometry over the frames. In a later
   // pass the features take their depths from the surface the pass before
   // measured over the whole scan, from the first frame on

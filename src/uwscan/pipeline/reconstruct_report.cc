@@ -37,10 +37,10 @@ void ReconstructJob::Check() const {
   if (passes > 1 && poses_file)
     throw UsageError("--passes " + std::to_string(passes) +
                      " and --poses exclude each other (the passes are the odometry's)");
-  if (oracle_depths && poses_file)
-    throw UsageError(
-        "--oracle-depths and --poses exclude each other (the oracle feeds the odometry, which "
-        "--poses replaces)");
+  if ((oracle_depths || oracle_tracks) && poses_file)
+    throw UsageError(std::string(oracle_depths ? "--oracle-depths" : "--oracle-tracks") +
+                     " and --poses exclude each other (the oracle feeds the odometry, which "
+                     "--poses replaces)");
 }
 
 namespace {

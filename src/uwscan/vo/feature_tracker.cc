@@ -54,6 +54,13 @@ void FeatureTracker::RemoveTracks(const std::vector<uint64_t>& ids) {
       dormant_.end());
 }
 
+void FeatureTracker::MoveTracks(
+    const std::function<std::optional<Eigen::Vector2d>(const FeatureTrack&)>& where) {
+  for (auto& track : tracks_) {
+    if (const auto pixel = where(track)) track.pixel = *pixel;
+  }
+}
+
 namespace {
 
 bool Masked(const cv::Mat& mask, const cv::Point2f& p) {

@@ -16,8 +16,10 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -105,6 +107,9 @@ class FeatureTracker {
   // has changed more than the re-anchorings' error it would save).
   void SetAnchor(const cv::Mat& mask = cv::Mat(), bool view_moved = false);
   void RemoveTracks(const std::vector<uint64_t>& ids);
+  // Moves each track to `where(track)`, if that gives a pixel (diagnostics:
+  // the simulator's true tracks, OdometryOptions::true_track_pixel).
+  void MoveTracks(const std::function<std::optional<Eigen::Vector2d>(const FeatureTrack&)>& where);
 
   const std::vector<FeatureTrack>& tracks() const { return tracks_; }
   int target_count() const {

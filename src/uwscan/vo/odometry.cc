@@ -126,6 +126,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
             "vo: mask must be empty or CV_8U of the image size");
   timestamp_s_ = timestamp_s;
   result.tracking = tracker_.Track(gray, mask);
+  MoveTracksToTruth();
   result.tracks = result.tracking.tracked;
   result.tracking_time_s = Seconds(start);
   result.tracking_cpu_s = ThreadCpuSeconds() - cpu_start;
@@ -139,6 +140,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   if (int(tracker_.tracks().size()) < tracker_.target_count() / 2) {
     tracker_.Detect(mask, &result.tracking);
   }
+  MoveTracksToTruth();  // those detected in this frame are seen by the truth here first
   if (result.world_from_camera) last_camera_from_world_ = result.world_from_camera->Inverse();
   result.total_time_s = Seconds(start);
   result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
@@ -148,6 +150,12 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
 void Odometry::SetReference(int frame_index) {
   reference_ = Reference{frame_index, {}};
   for (const auto& t : tracker_.tracks()) reference_->pixels[t.id] = t.pixel;
+}
+
+void Odometry::MoveTracksToTruth() {
+  if (!options_.true_track_pixel) return;
+  tracker_.MoveTracks(
+      [&](const FeatureTrack& track) { return options_.true_track_pixel(track, timestamp_s_); });
 }
 
 void Odometry::MarkLost(const std::string& why, FrameResult* result) {

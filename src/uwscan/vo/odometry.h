@@ -91,6 +91,13 @@ struct OdometryOptions {
   // within this many pixels; not while the map is being started or holds
   // fewer than min_map_points_to_defer points. 0: made at once, unchecked.
   double max_extrapolated_disagreement_px = 1.0;
+  // Diagnostics on simulated data (`uwscan reconstruct --oracle-tracks`):
+  // where the scene point a track follows truly is in the image at a time.
+  // When set, every track is moved there after tracking and detection
+  // (none: it keeps its tracked pixel): what the odometry does with perfect
+  // tracks.
+  std::function<std::optional<Eigen::Vector2d>(const FeatureTrack&, double timestamp_s)>
+      true_track_pixel;
   int min_map_points_to_defer = 50;
   // Scale prior: the expected median distance to the scene at the start
   // (altitude, laser range). Monocular VO is up to scale, but a refractive
@@ -197,6 +204,8 @@ class Odometry {
                                            double* rms_px) const;
   void SetReference(int frame_index);
   void MarkLost(const std::string& why, FrameResult* result);
+  // Moves the tracks to options_.true_track_pixel's pixels, if set.
+  void MoveTracksToTruth();
   // `view_moved`: made for parallax (FeatureTracker::SetAnchor).
   void AddKeyframe(const Rigid3d& camera_from_world, const cv::Mat& mask,
                    const std::vector<RangeConstraint>& ranges, bool view_moved,

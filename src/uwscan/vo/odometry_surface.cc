@@ -102,6 +102,7 @@ FrameResult Odometry::InitializeFromSurface(const cv::Mat& image, const cv::Mat&
   tracker_.Reset();
   result.tracking = tracker_.Track(gray, mask);
   tracker_.Detect(mask, &result.tracking);
+  MoveTracksToTruth();
   tracker_.SetAnchor(mask);
   MergeBundleAdjustment(&result);  // an earlier map's BA in flight, if any
   SparseMap previous = std::move(map_);
