@@ -94,6 +94,9 @@ cv::Mat SelfReferencedPoseProvider::TrackedLineMask(const cv::Mat& line_mask,
 
 PreparedFrame SelfReferencedPoseProvider::PrepareAhead(const FrameInput& frame) const {
   UWS_CHECK(!frame.image.empty(), "frame ", frame.index, ": empty image");
+  const int next = next_tracked_index_.load(std::memory_order_relaxed);
+  const int every = options_.track_every;
+  if (every > 1 && next >= 0 && ((frame.index - next) % every + every) % every != 0) return {};
   return MakePrepared(frame.image, frame.detection ? &frame.detection->mask : nullptr,
                       ChooseBayerOffset(frame.image), TrackedCamera(frame.image));
 }
@@ -110,7 +113,7 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
   held.input.profile = nullptr;
   held.input.prepared = nullptr;
   const PreparedFrame* ahead = frame.prepared;
-  if (ahead && ahead->variant == PreparedVariant(bayer_offset_)) {
+  if (ahead && !ahead->image.empty() && ahead->variant == PreparedVariant(bayer_offset_)) {
     held.input.image = ahead->image;
     held.mask = ahead->has_mask
                     ? ahead->mask
@@ -125,6 +128,17 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame) {
+  std::vector<PoseUpdate> updates = AddFrame(frame);
+  // Running with no frame skipped since: this one was tracked.
+  if (!running_) {
+    next_tracked_index_.store(-1, std::memory_order_relaxed);
+  } else if (skipped_.empty()) {
+    next_tracked_index_.store(frame.index + options_.track_every, std::memory_order_relaxed);
+  }
+  return updates;
+}
+
+std::vector<PoseUpdate> SelfReferencedPoseProvider::AddFrame(const FrameInput& frame) {
   preliminary_.clear();
   if (frames_ == 0) {
     bayer_offset_ = ChooseBayerOffset(frame.image);

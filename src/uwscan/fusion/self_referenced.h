@@ -11,6 +11,7 @@
 // first frames.
 #pragma once
 
+#include <atomic>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -119,10 +120,13 @@ class SelfReferencedPoseProvider : public PoseProvider {
   std::shared_ptr<const SurfaceModel> MeasuredSurface() const { return surface_; }
   int FirstFrameWithPose() const { return init_frame_; }
   std::vector<PoseUpdate> Preliminary() const override { return preliminary_; }
-  // The tracked image and dilated line mask (thread-safe: reads only what
-  // the constructor set). Not with track_every > 1: which frames will be
-  // tracked is known only in Add, and preparing all would waste the time.
-  bool PreparesAhead() const override { return options_.track_every == 1; }
+  // The tracked image and dilated line mask (thread-safe: reads what the
+  // constructor set and next_tracked_index_). With track_every > 1 only for
+  // the frames Add is expected to track (those it holds at the start: all;
+  // once running: every track_every-th index after the last tracked one),
+  // the others get an empty PreparedFrame: preparing all would make the
+  // reading thread the slower one. A frame guessed wrong is prepared in Add.
+  bool PreparesAhead() const override { return true; }
   PreparedFrame PrepareAhead(const FrameInput& frame) const override;
   // The camera of the image PrepareAhead makes from this stored frame.
   Camera TrackedCamera(const cv::Mat& frame) const;
@@ -201,6 +205,8 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // A new odometry on surface_, started at the first held frame; false (and
   // no odometry) if it cannot start there.
   bool StartOdometry(const Rigid3d& origin);
+  // Add without the bookkeeping for PrepareAhead.
+  std::vector<PoseUpdate> AddFrame(const FrameInput& frame);
   // OdometryOptions::true_track_pixel from options_.track_oracle.
   std::function<std::optional<Eigen::Vector2d>(const vo::FeatureTrack&, double)> TrueTrackPixels()
       const;
@@ -248,6 +254,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int guess_frames_ = 0;
   bool guess_failed_ = false;
   bool running_ = false;
+  // The index of the frame Add will track next once running (-1: every
+  // frame is taken, held at the start), for PrepareAhead on another thread.
+  std::atomic<int> next_tracked_index_{-1};
   std::optional<Rigid3d> last_pose_;
   double last_time_s_ = 0.0;
   int implausible_ = 0;
