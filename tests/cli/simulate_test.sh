@@ -97,6 +97,15 @@ grep -q "track-every must be auto or a count >= 1, got '2x'" "$work/err" || fail
 expect_status 2 "reconstruct --oracle-depths --poses" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.oracle" --oracle-depths --poses "$work/pods/groundtruth.tum" --quiet
 grep -q "oracle-depths and --poses exclude each other" "$work/err" || fail "--oracle-depths --poses: unclear error"
+expect_status 2 "reconstruct --oracle-tracks --poses" "$uwscan" reconstruct --dataset "$work/pods" \
+  --out "$work/pods.oracle" --oracle-tracks --poses "$work/pods/groundtruth.tum" --quiet
+grep -q "oracle-tracks and --poses exclude each other" "$work/err" || fail "--oracle-tracks --poses: unclear error"
+cp -al "$work/pods" "$work/pods_noscene" && rm "$work/pods_noscene/scene.yaml"
+expect_status 1 "reconstruct --oracle-tracks without scene.yaml" "$uwscan" reconstruct \
+  --dataset "$work/pods_noscene" --out "$work/pods.oracle" --oracle-tracks --quiet
+grep -q "scene.yaml: missing: --oracle-tracks needs a simulated dataset" "$work/err" ||
+  fail "--oracle-tracks without scene.yaml: unclear error"
+[ ! -e "$work/pods.oracle/cloud.ply" ] || fail "--oracle-tracks without scene.yaml wrote a cloud"
 expect_status 2 "reconstruct --passes 4" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes4" --passes 4 --quiet
 grep -q "passes must be auto, 1, 2 or 3, got '4'" "$work/err" || fail "--passes 4: unclear error"
