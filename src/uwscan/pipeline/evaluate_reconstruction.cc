@@ -8,6 +8,7 @@
 #include "uwscan/io/tum.h"
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/statistics.h"
 
 namespace uwscan {
 namespace fs = std::filesystem;
@@ -48,9 +49,7 @@ double MedianViewedDepth(const fs::path& dataset) {
         world_from_camera.translation, world_from_camera.rotation * Eigen::Vector3d::UnitZ());
     if (hit) depths.push_back((hit->point_world - world_from_camera.translation).norm());
   }
-  if (depths.empty()) return 0.0;
-  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-  return depths[depths.size() / 2];
+  return Median(depths);  // 0 if the axis never met the scene
 }
 
 ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const fs::path& result) {

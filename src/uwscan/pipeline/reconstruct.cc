@@ -260,10 +260,13 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     options.contrast_sigma_fraction =
         job.contrast_scale.value_or(sweeps ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
     report.contrast_scale = options.contrast_sigma_fraction;
-    if (job.oracle_depths)
-      options.depth_oracle = LoadSimulatorTruth(job.dataset, "--oracle-depths");
-    if (job.oracle_tracks)
-      options.track_oracle = LoadSimulatorTruth(job.dataset, "--oracle-tracks");
+    if (job.oracle_depths || job.oracle_tracks) {
+      // Both oracles read the same truth: loaded (and the scene prepared) once.
+      const auto truth = LoadSimulatorTruth(
+          job.dataset, job.oracle_depths ? "--oracle-depths" : "--oracle-tracks");
+      if (job.oracle_depths) options.depth_oracle = truth;
+      if (job.oracle_tracks) options.track_oracle = truth;
+    }
     if (prior) {
       options.prior_surface = prior->surface;
       options.prior_first_frame = prior->first_frame;
