@@ -102,9 +102,12 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "poses smoothed over +-N frames (quadratic fit), output N frames late (0 = raw)")
       ->capture_default_str();
   cmd->add_option("--init-refinements", job->self_referenced.init_refinements,
-                  "times the frames held at the start are tracked and their laser profiles "
-                  "placed again with those poses before the scan goes on (0 = once, with the "
-                  "first frame's pose)")
+                  "times the frames held at the start are at least tracked and their laser "
+                  "profiles placed again with those poses before the scan goes on (0 = once, "
+                  "with the guessed motion)")
+      ->capture_default_str();
+  cmd->add_option("--max-init-refinements", job->self_referenced.max_init_refinements,
+                  "... and at most, while their poses still move (> 2 mm rms) and converge")
       ->capture_default_str();
   cmd->add_flag("--no-difference-image", *no_difference,
                 "interleaved scans: detect the line in the laser-on frame itself, not in its "

@@ -25,8 +25,13 @@ void SelfReferencedOptions::Check() const {
             "the tracking width must be >= 0 (0 = full resolution), got ", max_tracking_width);
   UWS_CHECK(contrast_sigma_fraction >= 0 && contrast_sigma_fraction <= 0.5, context,
             "the contrast scale must be in [0, 0.5] of the width, got ", contrast_sigma_fraction);
-  UWS_CHECK(init_refinements >= 0, context, "init refinements must be >= 0, got ",
-            init_refinements);
+  UWS_CHECK(init_refinements >= 0 && max_init_refinements >= init_refinements, context,
+            "init refinements must be >= 0 and at most the maximum, got ", init_refinements,
+            " and ", max_init_refinements);
+  UWS_CHECK(init_settled_m > 0 && init_settled_deg > 0, context,
+            "the settled start's tolerances must be > 0");
+  UWS_CHECK(init_converging_ratio > 0 && init_converging_ratio <= 1, context,
+            "the start's converging ratio must be in (0, 1], got ", init_converging_ratio);
   UWS_CHECK(track_every >= 1, context, "track every N frames needs N >= 1, got ", track_every);
   UWS_CHECK(!prior_surface || prior_first_frame >= 0, context,
             "a first pass's surface needs the frame its map started at");
@@ -230,11 +235,18 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // from that surface; if it is too narrow for the scene's plane after all,
   // wait for more frames.
   // (A later pass starts on a surface placed with tracked poses already.)
-  const int refinements = use_prior ? 0 : options_.init_refinements;
+  const int min_refinements = use_prior ? 0 : options_.init_refinements;
+  const int max_refinements = min_refinements == 0 ? 0 : options_.max_init_refinements;
+  init_refinements_done_ = 0;
+  init_settled_ = false;
+  init_last_move_m_ = init_last_turn_deg_ = 0.0;
   // Every track_every-th held frame is tracked here, as once running; the
   // frames between are placed between the tracked ones around them.
   const size_t every = static_cast<size_t>(options_.track_every);
-  for (int refinement = 0; refinement < refinements && held_.size() > 2; ++refinement) {
+  std::vector<std::optional<Rigid3d>> previous_poses;
+  bool converging = true;
+  for (int refinement = 0; refinement < max_refinements && held_.size() > 2; ++refinement) {
+    if (refinement >= min_refinements && (init_settled_ || !converging)) break;
     size_t last_tracked = 0;
     for (size_t i = 1; i < held_.size(); ++i) {
       if (i % every != 0 && i + 1 < held_.size()) continue;
@@ -265,6 +277,15 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
       init_surface_.reset();  // rebuilt from the held frames at the next attempt
       return {};
     }
+    std::vector<std::optional<Rigid3d>> poses;
+    for (const Held& h : held_) poses.push_back(h.pose_guess);
+    const double last_move_m = init_last_move_m_;
+    init_settled_ = refinement > 0 && PosesSettled(previous_poses, poses);
+    // Held frames the odometry cannot place better (a few frames of a
+    // fast sweep) change as much every time: more would only shuffle them.
+    converging = refinement < 2 || init_last_move_m_ < options_.init_converging_ratio * last_move_m;
+    previous_poses = std::move(poses);
+    ++init_refinements_done_;
     surface_ = std::move(refined);
     if (!StartOdometry(origin)) {
       surface_.reset();
@@ -300,6 +321,25 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     updates.insert(updates.end(), tracked.begin(), tracked.end());
   }
   return updates;
+}
+
+bool SelfReferencedPoseProvider::PosesSettled(const std::vector<std::optional<Rigid3d>>& before,
+                                              const std::vector<std::optional<Rigid3d>>& after) {
+  double moved = 0.0, turned = 0.0;
+  int count = 0;
+  for (size_t i = 0; i < std::min(before.size(), after.size()); ++i) {
+    if (!before[i] || !after[i]) continue;
+    const Rigid3d change = before[i]->Inverse() * *after[i];
+    moved += change.translation.squaredNorm();
+    const double angle = Eigen::AngleAxisd(change.rotation).angle();
+    turned += angle * angle;
+    ++count;
+  }
+  if (count == 0) return false;
+  init_last_move_m_ = std::sqrt(moved / count);
+  init_last_turn_deg_ = std::sqrt(turned / count) * 180.0 / M_PI;
+  return init_last_move_m_ < options_.init_settled_m &&
+         init_last_turn_deg_ < options_.init_settled_deg;
 }
 
 void SelfReferencedPoseProvider::GuessHeldMotion(Held* held) {
@@ -517,6 +557,11 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"reinitialisations", reinitialisations_},
           {"frames_without_pose_at_start", dropped_},
           {"first_frame_with_pose", init_frame_},
+          {"start_refinements", init_refinements_done_},
+          {"start_settled",
+           init_refinements_done_ > 1 ? nlohmann::json(init_settled_) : nlohmann::json()},
+          {"start_last_change_mm", 1e3 * init_last_move_m_},
+          {"start_last_change_deg", init_last_turn_deg_},
           {"keyframes", keyframes_},
           {"implausible_poses_rejected", implausible_},
           {"tracks_cut_by_laser_line", tracks_cut_by_line_},

@@ -75,8 +75,20 @@ struct SelfReferencedOptions {
   int max_init_frames = 150;
   int init_attempt_every = 3;  // frames between initialisation attempts
   // Times the held frames are tracked on the starting surface and their
-  // profiles placed again with those poses before tracking goes on.
+  // profiles placed again with those poses before tracking goes on: at
+  // least init_refinements (0: placed once, with the guessed motion), then
+  // more until the held frames' poses settle (rms change from one to the
+  // next below init_settled_m and init_settled_deg), at most
+  // max_init_refinements. A start the guessed motion placed far off (tank
+  // seed 103: its surface's plane at 86 deg to the floor) takes several to
+  // come back; started after two, its trajectory came out a quarter short.
   int init_refinements = 2;
+  int max_init_refinements = 8;
+  double init_settled_m = 0.002;
+  double init_settled_deg = 0.05;
+  // ... and while they converge: each change below this fraction of the one
+  // before.
+  double init_converging_ratio = 0.7;
   // Place the held frames' profiles with a plain odometry's poses before
   // the map starts (GuessHeldMotion); on a hover it finds no parallax and
   // changes nothing.
@@ -190,6 +202,10 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // first pose their profiles never spread across the line and the surface
   // never gets its plane; placed where this odometry puts them, they do.
   void GuessHeldMotion(Held* held);
+  // Whether the held frames' poses settled from one refinement to the next
+  // (init_settled_m, init_settled_deg); records the rms change.
+  bool PosesSettled(const std::vector<std::optional<Rigid3d>>& before,
+                    const std::vector<std::optional<Rigid3d>>& after);
   // The passive colour straight from the raw mosaic if the frames are raw
   // and tracking is at half resolution or less (chosen on the first frame).
   std::optional<cv::Point> ChooseBayerOffset(const cv::Mat& frame) const;
@@ -264,6 +280,11 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int interpolated_ = 0;  // frames placed between tracked ones
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
+  // The start's refinements (init_refinements), whether its poses settled,
+  // and their last rms change.
+  int init_refinements_done_ = 0;
+  bool init_settled_ = false;
+  double init_last_move_m_ = 0.0, init_last_turn_deg_ = 0.0;
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
   long line_ranges_ = 0;  // range constraints where map points met the laser line
   int bundle_adjustments_ = 0, bundle_adjustments_time_limited_ = 0;

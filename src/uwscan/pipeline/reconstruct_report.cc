@@ -1,6 +1,7 @@
 // The reconstruction job's checks, and its report as JSON and warnings.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <string>
 #include <type_traits>
@@ -31,6 +32,12 @@ void ReconstructJob::Check() const {
   if (self_referenced.init_refinements < 0) {
     throw UsageError("--init-refinements must be >= 0, got " +
                      std::to_string(self_referenced.init_refinements));
+  }
+  if (self_referenced.max_init_refinements < self_referenced.init_refinements) {
+    throw UsageError("--max-init-refinements (" +
+                     std::to_string(self_referenced.max_init_refinements) +
+                     ") must be at least --init-refinements (" +
+                     std::to_string(self_referenced.init_refinements) + ")");
   }
   if (passes < 0 || passes > kMaxPasses)
     throw UsageError("--passes must be auto, 1, 2 or 3, got " + std::to_string(passes));
@@ -163,6 +170,17 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " windowed bundle adjustments stopped at their time limit before "
                        "converging: the trajectory depends on the machine's load "
                        "(--ba-time-limit)");
+  }
+  if (pose_details.is_object() && pose_details.contains("start_settled") &&
+      pose_details["start_settled"].is_boolean() && !pose_details["start_settled"].get<bool>()) {
+    char change[64];
+    std::snprintf(change, sizeof change, "%.1f mm",
+                  pose_details.value("start_last_change_mm", 0.0));
+    warnings.push_back("the frames held at the start had not settled after " +
+                       std::to_string(count("start_refinements")) +
+                       " refinements (their poses still moved " + change +
+                       " rms): the start of the trajectory may be off (a sweep too fast or "
+                       "too short for the scene's plane; --max-init-refinements)");
   }
   if (count("implausible_poses_rejected") > 0) {
     warnings.push_back(std::to_string(count("implausible_poses_rejected")) +
