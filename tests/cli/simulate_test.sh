@@ -106,6 +106,11 @@ expect_status 1 "reconstruct --oracle-tracks without scene.yaml" "$uwscan" recon
 grep -q "scene.yaml: missing: --oracle-tracks needs a simulated dataset" "$work/err" ||
   fail "--oracle-tracks without scene.yaml: unclear error"
 [ ! -e "$work/pods.oracle/cloud.ply" ] || fail "--oracle-tracks without scene.yaml wrote a cloud"
+expect_status 2 "reconstruct --max-init-refinements below --init-refinements" "$uwscan" reconstruct \
+  --dataset "$work/pods" --out "$work/pods.refine" --init-refinements 3 --max-init-refinements 2 --quiet
+grep -q "max-init-refinements (2) must be at least --init-refinements (3)" "$work/err" ||
+  fail "--max-init-refinements 2 --init-refinements 3: unclear error"
+[ ! -e "$work/pods.refine" ] || fail "--max-init-refinements below --init-refinements wrote output"
 expect_status 2 "reconstruct --passes 4" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes4" --passes 4 --quiet
 grep -q "passes must be auto, 1, 2 or 3, got '4'" "$work/err" || fail "--passes 4: unclear error"

@@ -172,8 +172,9 @@ TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) 
 // at 1280x960 (2000 frames, BENCHMARKS.md) the guessed motion had put the
 // start's plane at 86 deg to the floor and two refinements left the
 // trajectory a quarter short; six brought it back. Here the hover settles
-// after the two; asked for a settling it cannot reach, it goes on while the
-// poses still converge, stops short of the maximum, and the report says so.
+// after the two; asked to settle to the last bit, it goes on (up to the
+// maximum); when its poses do not converge, it stops, and the report says
+// so.
 TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
   ReconstructJob job = SimulatedHover("settle", 160, 5);
   const fs::path root = job.dataset.parent_path();
@@ -201,9 +202,9 @@ TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
          exact_error_mm, done, default_error_mm, details["start_last_change_mm"].get<double>());
   EXPECT_LT(exact_error_mm, 1.5 * default_error_mm);
 
-  // Poses that do not converge (nothing counts as converging here) stop the
-  // refinements after the first that shows it, unsettled, and the report
-  // says so.
+  // Poses that do not converge (with the tolerances above, and nothing
+  // counting as converging) stop the refinements after the first that
+  // shows it, unsettled, and the report says so.
   job.out = root / "unconverged";
   job.self_referenced.init_converging_ratio = 1e-9;
   const ReconstructReport unconverged = RunReconstruct(job);
