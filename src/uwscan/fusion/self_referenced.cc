@@ -189,6 +189,31 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::AddFrame(const FrameInput& f
   return updates;
 }
 
+namespace {
+
+struct PoseChange {
+  double moved_m = 0.0, turned_deg = 0.0;
+};
+
+// The rms change of the poses both lists have; none if they share none.
+std::optional<PoseChange> RmsPoseChange(const std::vector<std::optional<Rigid3d>>& before,
+                                        const std::vector<std::optional<Rigid3d>>& after) {
+  double moved = 0.0, turned = 0.0;
+  int count = 0;
+  for (size_t i = 0; i < std::min(before.size(), after.size()); ++i) {
+    if (!before[i] || !after[i]) continue;
+    const Rigid3d change = before[i]->Inverse() * *after[i];
+    moved += change.translation.squaredNorm();
+    const double angle = Eigen::AngleAxisd(change.rotation).angle();
+    turned += angle * angle;
+    ++count;
+  }
+  if (count == 0) return std::nullopt;
+  return PoseChange{std::sqrt(moved / count), std::sqrt(turned / count) * 180.0 / M_PI};
+}
+
+}  // namespace
+
 std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // The held frames' profiles, placed with the first held frame's pose (or
   // where an earlier attempt tracked them): the platform moves while they
@@ -279,11 +304,16 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     }
     std::vector<std::optional<Rigid3d>> poses;
     for (const Held& h : held_) poses.push_back(h.pose_guess);
+    const std::optional<PoseChange> change =
+        refinement > 0 ? RmsPoseChange(previous_poses, poses) : std::nullopt;
     const double last_move_m = init_last_move_m_;
-    init_settled_ = refinement > 0 && PosesSettled(previous_poses, poses);
+    if (change) init_last_move_m_ = change->moved_m, init_last_turn_deg_ = change->turned_deg;
+    init_settled_ = change && change->moved_m < options_.init_settled_m &&
+                    change->turned_deg < options_.init_settled_deg;
     // Held frames the odometry cannot place better (a few frames of a
     // fast sweep) change as much every time: more would only shuffle them.
-    converging = refinement < 2 || init_last_move_m_ < options_.init_converging_ratio * last_move_m;
+    converging = refinement < 2 ||
+                 (change && change->moved_m < options_.init_converging_ratio * last_move_m);
     previous_poses = std::move(poses);
     ++init_refinements_done_;
     surface_ = std::move(refined);
@@ -321,25 +351,6 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     updates.insert(updates.end(), tracked.begin(), tracked.end());
   }
   return updates;
-}
-
-bool SelfReferencedPoseProvider::PosesSettled(const std::vector<std::optional<Rigid3d>>& before,
-                                              const std::vector<std::optional<Rigid3d>>& after) {
-  double moved = 0.0, turned = 0.0;
-  int count = 0;
-  for (size_t i = 0; i < std::min(before.size(), after.size()); ++i) {
-    if (!before[i] || !after[i]) continue;
-    const Rigid3d change = before[i]->Inverse() * *after[i];
-    moved += change.translation.squaredNorm();
-    const double angle = Eigen::AngleAxisd(change.rotation).angle();
-    turned += angle * angle;
-    ++count;
-  }
-  if (count == 0) return false;
-  init_last_move_m_ = std::sqrt(moved / count);
-  init_last_turn_deg_ = std::sqrt(turned / count) * 180.0 / M_PI;
-  return init_last_move_m_ < options_.init_settled_m &&
-         init_last_turn_deg_ < options_.init_settled_deg;
 }
 
 void SelfReferencedPoseProvider::GuessHeldMotion(Held* held) {

@@ -202,10 +202,6 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // first pose their profiles never spread across the line and the surface
   // never gets its plane; placed where this odometry puts them, they do.
   void GuessHeldMotion(Held* held);
-  // Whether the held frames' poses settled from one refinement to the next
-  // (init_settled_m, init_settled_deg); records the rms change.
-  bool PosesSettled(const std::vector<std::optional<Rigid3d>>& before,
-                    const std::vector<std::optional<Rigid3d>>& after);
   // The passive colour straight from the raw mosaic if the frames are raw
   // and tracking is at half resolution or less (chosen on the first frame).
   std::optional<cv::Point> ChooseBayerOffset(const cv::Mat& frame) const;
