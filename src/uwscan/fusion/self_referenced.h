@@ -79,9 +79,11 @@ struct SelfReferencedOptions {
   // least init_refinements (0: placed once, with the guessed motion), then
   // more until the held frames' poses settle (rms change from one to the
   // next below init_settled_m and init_settled_deg), at most
-  // max_init_refinements. A start the guessed motion placed far off (tank
-  // seed 103: its surface's plane at 86 deg to the floor) takes several to
-  // come back; started after two, its trajectory came out a quarter short.
+  // max_init_refinements. A start whose first surface was far off (tank
+  // seed 103: a slow sweep still inside the plane's RANSAC band, whose
+  // plane came out as the light sheet, 86 deg to the floor) takes several
+  // to come back; started after two, its trajectory came out a quarter
+  // short.
   int init_refinements = 2;
   int max_init_refinements = 8;
   double init_settled_m = 0.002;

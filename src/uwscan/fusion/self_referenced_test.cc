@@ -169,8 +169,8 @@ TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) 
 // The held frames are placed again until their poses settle
 // (init_settled_m, init_settled_deg), at least init_refinements times and
 // only while they still converge (init_converging_ratio). On tank seed 103
-// at 1280x960 (2000 frames, BENCHMARKS.md) the guessed motion had put the
-// start's plane at 86 deg to the floor and two refinements left the
+// at 1280x960 (2000 frames, BENCHMARKS.md) the first surface's plane was
+// the light sheet, at 86 deg to the floor, and two refinements left the
 // trajectory a quarter short; six brought it back. Here the hover settles
 // after the two; asked to settle to the last bit, it goes on (up to the
 // maximum); when its poses do not converge, it stops, and the report says
