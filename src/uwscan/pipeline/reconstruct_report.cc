@@ -1,7 +1,8 @@
 // The reconstruction job's checks, and its report as JSON and warnings.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <exception>
 #include <string>
 #include <type_traits>
@@ -173,14 +174,11 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   }
   if (pose_details.is_object() && pose_details.contains("start_settled") &&
       pose_details["start_settled"].is_boolean() && !pose_details["start_settled"].get<bool>()) {
-    char change[64];
-    std::snprintf(change, sizeof change, "%.1f mm",
-                  pose_details.value("start_last_change_mm", 0.0));
-    warnings.push_back("the frames held at the start had not settled after " +
-                       std::to_string(count("start_refinements")) +
-                       " refinements (their poses still moved " + change +
-                       " rms): the start of the trajectory may be off (a sweep too fast or "
-                       "too short for the scene's plane; --max-init-refinements)");
+    warnings.push_back(fmt::format(
+        "the frames held at the start had not settled after {} refinements (their poses still "
+        "moved {:.1f} mm rms): the start of the trajectory may be off (a sweep too fast or too "
+        "short for the scene's plane; --max-init-refinements)",
+        count("start_refinements"), pose_details.value("start_last_change_mm", 0.0)));
   }
   if (count("implausible_poses_rejected") > 0) {
     warnings.push_back(std::to_string(count("implausible_poses_rejected")) +
