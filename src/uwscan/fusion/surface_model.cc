@@ -13,7 +13,8 @@ namespace uwscan::fusion {
 void SurfaceModelOptions::Check() const {
   UWS_CHECK(cell_px >= 2 && max_points_per_cell >= 4 && search_radius_cells >= 0 && min_points >= 3,
             "surface model: invalid options");
-  UWS_CHECK(min_local_width_m >= 0 && min_plane_width_m >= 0 && max_plane_rms_m > 0,
+  UWS_CHECK(min_local_width_m >= 0 && min_plane_width_m >= 0 && max_plane_rms_m > 0 &&
+                max_local_gap_m > 0,
             "surface model: invalid fit thresholds");
   UWS_CHECK(front_min_fraction > 0 && front_min_fraction <= 1 && front_min_gap_fraction > 0,
             "surface model: invalid thresholds of the surface in front");
@@ -123,6 +124,22 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::FitCell
     return std::nullopt;
   }
   return std::pair{centroid, Eigen::Vector3d(solver.eigenvectors().col(0))};
+}
+
+bool SurfaceModel::NearMeasuredPoint(const Eigen::Vector3d& point) const {
+  const auto cell = CellOf(point);
+  if (!cell) return false;
+  const double gap_squared = options_.max_local_gap_m * options_.max_local_gap_m;
+  const int radius = options_.search_radius_cells;
+  for (int r = std::max(0, cell->y() - radius); r <= std::min(rows_ - 1, cell->y() + radius); ++r) {
+    for (int c = std::max(0, cell->x() - radius); c <= std::min(cols_ - 1, cell->x() + radius);
+         ++c) {
+      for (const auto& p : cells_.bins[static_cast<size_t>(r) * cols_ + c]) {
+        if ((p - point).squaredNorm() <= gap_squared) return true;
+      }
+    }
+  }
+  return false;
 }
 
 std::optional<Eigen::Vector3d> SurfaceModel::IntersectLocal(const Eigen::Vector3d& origin,
@@ -330,8 +347,11 @@ std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& 
                                                          const Eigen::Vector3d& direction) const {
   if (Binned().points < options_.min_points) return std::nullopt;
   const auto local = IntersectSwept(origin, direction);
+  // Measured where the laser points are, extrapolated beyond them
+  // (max_local_gap_m).
+  const bool supported = local && NearMeasuredPoint(*local);
   if (!options_.extrapolate_plane) {
-    if (!local) return std::nullopt;
+    if (!supported) return std::nullopt;
     return Hit{*local, options_.local_sigma_m, false};
   }
   const auto& plane = DominantPlane();  // refreshes the surface in front too
@@ -344,6 +364,7 @@ std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& 
     const double measured = (*local - origin).norm();
     if (front < measured * (1.0 - options_.front_min_gap_fraction))
       return Hit{origin + front * direction, options_.extrapolated_sigma_m, true};
+    if (!supported) return Hit{*local, options_.extrapolated_sigma_m, true};
     return Hit{*local, options_.local_sigma_m, false};
   }
   if (!plane) return std::nullopt;

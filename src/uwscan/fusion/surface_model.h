@@ -33,6 +33,15 @@ struct SurfaceModelOptions {
   double min_local_width_m = 0.01;
   double min_plane_width_m = 0.05;
   double max_plane_rms_m = 0.01;  // a local fit worse than this is not trusted
+  // A local plane is measured only near the points it was fitted on: its
+  // hit farther than this from all of them (past the edge of the swept
+  // band, or past a shaft's silhouette, where the shaft's tangent plane
+  // runs on in front of the hull) is an extrapolation, and is returned as
+  // one (extrapolated_sigma_m, Hit::extrapolated). On the simulator's hulls
+  // a fifth of the local hits 2-4 cm from every point were off by more
+  // than 2 cm, against 3-7 % within 2 cm; 2 and 3 cm tried (BENCHMARKS.md,
+  // "Local planes only near their points").
+  double max_local_gap_m = 0.03;
   // Where the laser has not swept yet, a ray may take the dominant plane of
   // all laser points (a sea floor, a hull plate), with this uncertainty.
   bool extrapolate_plane = true;
@@ -87,6 +96,9 @@ class SurfaceModel {
                                                 const Eigen::Vector2i& cell) const;
   std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> FitCell(
       const Eigen::Vector2i& cell) const;
+  // Whether a binned point lies within max_local_gap_m of `point` (among
+  // the cells a local plane around its cell is fitted on).
+  bool NearMeasuredPoint(const Eigen::Vector3d& point) const;
 
   Camera camera_;
   Rigid3d world_from_reference_, reference_from_world_;
