@@ -39,7 +39,7 @@ struct SurfaceModelOptions {
   // runs on in front of the hull) is an extrapolation, and is returned as
   // one (extrapolated_sigma_m, Hit::extrapolated). On the simulator's hulls
   // a fifth of the local hits 2-4 cm from every point were off by more
-  // than 2 cm, against 3-7 % within 2 cm; 2 and 3 cm tried (BENCHMARKS.md,
+  // than 2 cm, against 2-7 % within 2 cm; 2 and 3 cm tried (BENCHMARKS.md,
   // "Local planes only near their points").
   double max_local_gap_m = 0.03;
   // Where the laser has not swept yet, a ray may take the dominant plane of
