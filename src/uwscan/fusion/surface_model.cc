@@ -100,12 +100,19 @@ const SurfaceModel::Cells& SurfaceModel::Binned() const {
   return cells_;
 }
 
+SurfaceModel::CellRange SurfaceModel::Neighbourhood(const Eigen::Vector2i& cell) const {
+  const int radius = options_.search_radius_cells;
+  return {Eigen::Vector2i(std::max(0, cell.x() - radius), std::max(0, cell.y() - radius)),
+          Eigen::Vector2i(std::min(cols_ - 1, cell.x() + radius),
+                          std::min(rows_ - 1, cell.y() + radius))};
+}
+
 std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SurfaceModel::FitCell(
     const Eigen::Vector2i& cell) const {
   std::vector<const Eigen::Vector3d*> local;
-  const int radius = options_.search_radius_cells;
-  for (int r = std::max(0, cell.y() - radius); r <= std::min(rows_ - 1, cell.y() + radius); ++r) {
-    for (int c = std::max(0, cell.x() - radius); c <= std::min(cols_ - 1, cell.x() + radius); ++c) {
+  const CellRange around = Neighbourhood(cell);
+  for (int r = around.first.y(); r <= around.last.y(); ++r) {
+    for (int c = around.first.x(); c <= around.last.x(); ++c) {
       for (const auto& p : cells_.bins[static_cast<size_t>(r) * cols_ + c]) local.push_back(&p);
     }
   }
@@ -130,10 +137,9 @@ bool SurfaceModel::NearMeasuredPoint(const Eigen::Vector3d& point) const {
   const auto cell = CellOf(point);
   if (!cell) return false;
   const double gap_squared = options_.max_local_gap_m * options_.max_local_gap_m;
-  const int radius = options_.search_radius_cells;
-  for (int r = std::max(0, cell->y() - radius); r <= std::min(rows_ - 1, cell->y() + radius); ++r) {
-    for (int c = std::max(0, cell->x() - radius); c <= std::min(cols_ - 1, cell->x() + radius);
-         ++c) {
+  const CellRange around = Neighbourhood(*cell);
+  for (int r = around.first.y(); r <= around.last.y(); ++r) {
+    for (int c = around.first.x(); c <= around.last.x(); ++c) {
       for (const auto& p : cells_.bins[static_cast<size_t>(r) * cols_ + c]) {
         if ((p - point).squaredNorm() <= gap_squared) return true;
       }

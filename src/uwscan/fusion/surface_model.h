@@ -94,6 +94,12 @@ class SurfaceModel {
   std::optional<Eigen::Vector3d> IntersectLocal(const Eigen::Vector3d& origin,
                                                 const Eigen::Vector3d& direction,
                                                 const Eigen::Vector2i& cell) const;
+  // The cells within search_radius_cells of `cell` (first and last
+  // column, row), whose points a local plane around it is fitted on.
+  struct CellRange {
+    Eigen::Vector2i first, last;
+  };
+  CellRange Neighbourhood(const Eigen::Vector2i& cell) const;
   std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> FitCell(
       const Eigen::Vector2i& cell) const;
   // Whether a binned point lies within max_local_gap_m of `point` (among
