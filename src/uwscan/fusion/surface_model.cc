@@ -352,12 +352,11 @@ std::optional<double> SurfaceModel::IntersectFront(const Eigen::Vector3d& origin
 std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& origin,
                                                          const Eigen::Vector3d& direction) const {
   if (Binned().points < options_.min_points) return std::nullopt;
+  // A local plane's hit is measured where the laser points are,
+  // extrapolated beyond them (max_local_gap_m).
   const auto local = IntersectSwept(origin, direction);
-  // Measured where the laser points are, extrapolated beyond them
-  // (max_local_gap_m).
-  const bool supported = local && NearMeasuredPoint(*local);
   if (!options_.extrapolate_plane) {
-    if (!supported) return std::nullopt;
+    if (!local || !NearMeasuredPoint(*local)) return std::nullopt;
     return Hit{*local, options_.local_sigma_m, false};
   }
   const auto& plane = DominantPlane();  // refreshes the surface in front too
@@ -367,10 +366,10 @@ std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& 
   double front = std::numeric_limits<double>::infinity();
   if (!front_points_.empty()) front = IntersectFront(origin, direction).value_or(front);
   if (local) {
-    const double measured = (*local - origin).norm();
-    if (front < measured * (1.0 - options_.front_min_gap_fraction))
+    const double range = (*local - origin).norm();
+    if (front < range * (1.0 - options_.front_min_gap_fraction))
       return Hit{origin + front * direction, options_.extrapolated_sigma_m, true};
-    if (!supported) return Hit{*local, options_.extrapolated_sigma_m, true};
+    if (!NearMeasuredPoint(*local)) return Hit{*local, options_.extrapolated_sigma_m, true};
     return Hit{*local, options_.local_sigma_m, false};
   }
   if (!plane) return std::nullopt;
