@@ -89,6 +89,8 @@ void RegisterBenchCommands(CLI::App& app) {
   auto pipeline_track_every = std::make_shared<std::string>("auto");
   pipeline->add_option("--track-every", *pipeline_track_every, "as reconstruct --track-every")
       ->capture_default_str();
+  pipeline->add_option("--line-window", pipeline_options->line_window_px,
+                       "as reconstruct --line-window");
   pipeline->callback([pipeline_options, pipeline_dataset, pipeline_track_every] {
     pipeline_options->dataset = *pipeline_dataset;
     pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);

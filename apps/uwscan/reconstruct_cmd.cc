@@ -74,6 +74,12 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--keep-albedo-edges", *keep_albedo_edges,
                 "keep line points on an albedo edge (dropped by default: the edge pulls the "
                 "sub-pixel fit towards its bright side; judged in the flood-lit colour channel)");
+  cmd->add_option("--line-window", job->line_window_px,
+                  "search each image row (or column) for the laser line only within this many "
+                  "pixels of where the frame before had it; whole rows where it had none, in "
+                  "every 10th frame, and again when something appears off that line (0 = every "
+                  "row whole; not with a fixed laser's motion filter)")
+      ->capture_default_str();
   cmd->add_option("--max-dormant-frames", job->self_referenced.odometry.tracker.max_dormant_frames,
                   "frames a feature track cut by the laser line may stay lost and still be taken "
                   "up again under its id (thesis §5.5; 0 = off)")

@@ -85,6 +85,7 @@ void DetectorOptions::Check() const {
             "laser detection: invalid albedo channel");
   UWS_CHECK(min_albedo_reference >= 0.0 && max_albedo_step > 1.0,
             "laser detection: albedo step must be > 1");
+  UWS_CHECK(line_window_px >= 1, "laser detection: line window must be >= 1 px");
 }
 
 namespace {
@@ -154,7 +155,7 @@ struct Scratch {
   std::vector<int32_t> band;
   std::vector<int> candidates;
   std::vector<uint8_t> maximum_flags;  // per sample: a local maximum above the threshold
-  std::vector<PeakProfile> profiles;  // of the selected peaks
+  std::vector<PeakProfile> profiles;   // of the selected peaks
   BandPass bandpass;
 };
 
@@ -221,13 +222,28 @@ int ExcludePeaks(const std::function<bool(double, int)>& exclude, std::vector<Pe
   return static_cast<int>(before - peaks->size());
 }
 
-// Thesis method, steps 1-4 and 7 on one scan line: peaks of the laser channel.
+// Thesis method, steps 1-4 and 7 on one scan line: peaks of the laser
+// channel; only those within o.line_window_px of the line's prior on this
+// scan line, if it has one.
 void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const DetectorOptions& o,
                    Scratch* s, std::vector<Peak>* peaks, DetectionStats* stats) {
   const auto channels = ChannelsOnRow(layout, row);
   const ScanChannel* laser = FindLaserChannel(channels, o.laser_channel);
   if (!laser) return;  // e.g. a Bayer row without the laser's colour
-  const RowSamples samples = RowChannel(image, layout, row, *laser);
+  RowSamples samples = RowChannel(image, layout, row, *laser);
+  int skipped = 0;  // samples before the window
+  if (row < static_cast<int>(o.line_prior.size()) && std::isfinite(o.line_prior[row].first)) {
+    const auto [from, to] = o.line_prior[row];
+    skipped = std::clamp(
+        static_cast<int>(std::floor((from - o.line_window_px - laser->offset) / laser->stride)), 0,
+        samples.count);
+    const int end = std::clamp(
+        static_cast<int>(std::ceil((to + o.line_window_px - laser->offset) / laser->stride)) + 1,
+        skipped, samples.count);
+    samples.first += skipped * samples.step;
+    samples.count = end - skipped;
+    if (samples.count < 3) return;  // the window lies off the scan line
+  }
   const double sigma = o.line_sigma_px / laser->stride;
   BandPass& bandpass = s->bandpass;
   bandpass.inner = std::max(1, static_cast<int>(std::lround(sigma)));
@@ -306,14 +322,14 @@ void FindLinePeaks(const cv::Mat& image, ColourLayout layout, int row, const Det
     for (int j = hi_core + 1; j <= hi_noise; ++j) noise += std::abs(band[j]);
     const int noise_count = (lo_core - lo_noise) + (hi_noise - hi_core);
     if (noise_count > 0 && b * static_cast<double>(noise_count) < o.min_snr * noise) continue;
-    const double coarse = laser->offset + laser->stride * i;
+    const double coarse = laser->offset + laser->stride * (i + skipped);
     if (o.cross_channel_suppression && laser->channel != kMono &&
         StrongerInOtherChannel(image, layout, row, *laser, coarse, b, bandpass)) {
       ++stats->suppressed_cross_channel;
       continue;
     }
-    peaks->push_back({row, coarse, static_cast<float>(b / scale), laser->channel, i, laser->offset,
-                      laser->stride});
+    peaks->push_back({row, coarse, static_cast<float>(b / scale), laser->channel, i + skipped,
+                      laser->offset, laser->stride});
   }
 }
 

@@ -85,6 +85,15 @@ struct DetectorOptions {
   // (empty: none); e.g. only what stands exactly where a stripe stood.
   std::function<bool(double position, int line)> exclude_candidate_on_restore;
   bool keep_candidates = false;  // fill Detection::candidates
+  // Thesis method: where the line was (the frame before's detection, say),
+  // per scan line the interval of positions across the line
+  // (full-resolution px; NaN where none). Such a scan line is searched
+  // only within line_window_px of its interval, the others whole; empty:
+  // every scan line whole. The window must hold the line's motion from
+  // the prior plus the band-pass and noise supports (noise_half_window_px
+  // and 4 line sigmas) for a peak inside to be found as on the whole line.
+  std::vector<std::pair<float, float>> line_prior;
+  int line_window_px = 48;
   // Mask: pixels within this many sigmas of a detection are masked.
   double mask_sigmas = 3.0;
   bool make_mask = true;

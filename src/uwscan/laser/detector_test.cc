@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "uwscan/laser/segments.h"
@@ -182,6 +184,78 @@ TEST(LaserDetector, ExcludedCandidatesLetTheWeakerLineWin) {
   EXPECT_TRUE(restored.stats.exclusion_restored);
   EXPECT_EQ(restored.stats.excluded_candidates, 0);
   EXPECT_EQ(restored.points.size(), plain.points.size());
+}
+
+// A prior of the line (the frame before's) limits each scan line's search
+// to a window around it: a brighter stripe outside it is not seen; a scan
+// line without a prior is searched whole; and a line inside the window is
+// found exactly as on the whole scan line (mono and raw Bayer).
+TEST(LaserDetector, LinePriorSearchesAWindowAroundIt) {
+  SyntheticLineOptions o;
+  o.stripe = true;
+  o.amplitude = 0.3;
+  o.stripe_amplitude = 0.6;  // 90 px from the line, brighter: wins a whole scan line
+  const SyntheticLine line = RenderSyntheticLine(o);
+  DetectorOptions options;
+  const Detection whole = DetectLaserLine(line.image, ColourLayout::kMono, options);
+  EXPECT_GT(Evaluate(whole, line).outliers, 0.5);
+  // The line 4 px from where the prior has it, upper half only.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  options.line_prior.assign(o.height, {nan, nan});
+  for (const auto& p : line.truth) {
+    if (p.y < o.height / 2) options.line_prior[static_cast<int>(p.y)] = {p.x + 4, p.x + 4};
+  }
+  options.keep_candidates = true;
+  const Detection windowed = DetectLaserLine(line.image, ColourLayout::kMono, options);
+  const auto stripe_u = [&](double v) {
+    return o.stripe_u0 + o.stripe_slope * (v - o.height / 2.0);
+  };
+  int on_line = 0;
+  for (const auto& p : windowed.points) {
+    if (p.v >= o.height / 2) continue;
+    EXPECT_LT(std::abs(p.u - line.truth[static_cast<int>(p.v)].x), 1.0) << "row " << p.v;
+    ++on_line;
+  }
+  EXPECT_GT(on_line, o.height / 2 * 95 / 100);
+  // The stripe is a candidate only where the scan line was searched whole.
+  int stripe_above = 0, stripe_below = 0;
+  for (const auto& c : windowed.candidates) {
+    if (std::abs(c.u - stripe_u(c.v)) > 2.0) continue;
+    (c.v < o.height / 2 ? stripe_above : stripe_below)++;
+  }
+  EXPECT_EQ(stripe_above, 0);
+  EXPECT_GT(stripe_below, o.height / 2 * 90 / 100);
+  // Too narrow a window for the line's supports: the line is not found there.
+  options.line_window_px = 2;
+  options.keep_candidates = false;
+  const Detection narrow = DetectLaserLine(line.image, ColourLayout::kMono, options);
+  EXPECT_LT(std::count_if(narrow.points.begin(), narrow.points.end(),
+                          [&](const LaserPoint& p) { return p.v < o.height / 2; }),
+            o.height / 10);
+
+  // A prior off the image: nothing is searched on its scan lines.
+  options.line_window_px = 48;
+  for (auto& [from, to] : options.line_prior) from = to = -500.0f;
+  EXPECT_TRUE(DetectLaserLine(line.image, ColourLayout::kMono, options).points.empty());
+
+  for (const auto layout : {ColourLayout::kMono, ColourLayout::kBayerRggb}) {
+    SyntheticLineOptions clean;
+    clean.layout = layout;
+    clean.slope = 0.4;
+    const SyntheticLine plain = RenderSyntheticLine(clean);
+    DetectorOptions prior;
+    const Detection all = DetectLaserLine(plain.image, layout, prior);
+    ASSERT_GT(all.points.size(), plain.truth.size() * 95 / 100);
+    prior.line_prior.assign(clean.height, {nan, nan});
+    for (const auto& p : plain.truth) prior.line_prior[static_cast<int>(p.y)] = {p.x - 6, p.x + 3};
+    const Detection near = DetectLaserLine(plain.image, layout, prior);
+    ASSERT_EQ(near.points.size(), all.points.size());
+    for (size_t i = 0; i < all.points.size(); ++i) {
+      EXPECT_EQ(near.points[i].u, all.points[i].u);
+      EXPECT_EQ(near.points[i].v, all.points[i].v);
+      EXPECT_EQ(near.points[i].strength, all.points[i].strength);
+    }
+  }
 }
 
 TEST(LaserDetector, FrameWithoutLaserGivesNoPoints) {

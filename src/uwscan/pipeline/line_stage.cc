@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "uwscan/io/image.h"
 #include "uwscan/pipeline/laser_detect.h"
@@ -45,6 +46,7 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
   if (job.texture_filter) {
     if (LaserSweeps(frames)) {
       StartSweepFilter();
+      line_prior_.clear();  // that was a frame ahead's line
     } else {
       laser::MotionFilterOptions motion;
       motion.scan_rows = detector_.scan_rows;
@@ -52,6 +54,10 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
       motion_filter_.emplace(camera, motion);
     }
   }
+  // The motion filter judges the candidates of whole scan lines.
+  windowed_ = job.line_window_px > 0 && !motion_filter_;
+  if (windowed_) detector_.line_window_px = job.line_window_px;
+  report_->line_window_px = windowed_ ? job.line_window_px : 0;
 }
 
 void LineStage::SetPose(int frame, const Rigid3d& world_from_camera) {
@@ -131,13 +137,65 @@ laser::Detection LineStage::Detect(const cv::Mat& image, const FrameRecord& reco
     options.keep_candidates = true;
     report_->texture_epipolar_matches = motion_filter_->epipolar_matches_total();
   }
-  laser::Detection detection =
-      laser::DetectLaserLine(image, laser::LayoutFor(camera_.bayer, image.channels()), options);
+  const auto layout = laser::LayoutFor(camera_.bayer, image.channels());
+  laser::Detection detection;
+  if (windowed_ && prior_lines_ > 0 && windowed_frames_ < kWholeScanEvery - 1) {
+    options.line_prior = line_prior_;
+    detection = laser::DetectLaserLine(image, layout, options);
+    ++windowed_frames_;
+    if (OffThePrior(detection)) {
+      // Something new: found as on whole scan lines, where it competes
+      // with everything they hold.
+      options.line_prior.clear();
+      detection = laser::DetectLaserLine(image, layout, options);
+      windowed_frames_ = 0;
+      ++report_->frames_line_window_redone;
+    }
+  } else {
+    detection = laser::DetectLaserLine(image, layout, options);
+    windowed_frames_ = 0;
+  }
+  if (windowed_) {
+    line_prior_.assign(ScanLines(), {std::numeric_limits<float>::quiet_NaN(), 0.0f});
+    prior_lines_ = 0;
+    const auto add = [&](const laser::LaserPoint& p) {
+      const int line = static_cast<int>(std::lround(detector_.scan_rows ? p.v : p.u));
+      if (line < 0 || line >= static_cast<int>(line_prior_.size())) return;
+      const float position = static_cast<float>(detector_.scan_rows ? p.u : p.v);
+      auto& [from, to] = line_prior_[line];
+      if (std::isnan(from)) from = to = position, ++prior_lines_;
+      from = std::min(from, position), to = std::max(to, position);
+    };
+    for (const auto& p : detection.points) add(p);
+    for (const auto& p : detection.albedo_edge_points) add(p);
+  }
   if (sweeping) {
     sweep_filter_->End(detection.candidates);
     detection.candidates = {};
   }
   return detection;
+}
+
+bool LineStage::OffThePrior(const laser::Detection& detection) const {
+  // A point on a scan line without a prior continues the line if it lies
+  // within the window of the prior of a scan line nearby (the line grown
+  // at its ends, or gone on from one side of a silhouette to the other's);
+  // otherwise something appeared.
+  const int lines = static_cast<int>(line_prior_.size());
+  const float window = static_cast<float>(detector_.line_window_px);
+  const auto off = [&](const laser::LaserPoint& p) {
+    const int line = static_cast<int>(std::lround(detector_.scan_rows ? p.v : p.u));
+    if (line < 0 || line >= lines || std::isfinite(line_prior_[line].first)) return false;
+    const float position = static_cast<float>(detector_.scan_rows ? p.u : p.v);
+    for (int l = std::max(0, line - kPriorNeighbourLines);
+         l <= std::min(lines - 1, line + kPriorNeighbourLines); ++l) {
+      const auto [from, to] = line_prior_[l];
+      if (position >= from - window && position <= to + window) return false;  // NaN: false
+    }
+    return true;
+  };
+  return std::any_of(detection.points.begin(), detection.points.end(), off) ||
+         std::any_of(detection.albedo_edge_points.begin(), detection.albedo_edge_points.end(), off);
 }
 
 void LineStage::StartSweepFilter() {

@@ -37,6 +37,13 @@ class LineStage {
 
   const laser::DetectorOptions& detector() const { return detector_; }
   int ScanLines() const { return detector_.scan_rows ? camera_.height : camera_.width; }
+  // With ReconstructJob::line_window_px, every this many frames the scan
+  // lines are searched whole again (a line that appeared far from the
+  // last one on a scan line that has it, or one a window followed astray).
+  static constexpr int kWholeScanEvery = 10;
+  // A point found on a scan line without a prior continues the line when
+  // near the prior of a scan line this close.
+  static constexpr int kPriorNeighbourLines = 32;
 
   // Frame i of the sequence, its image as read: the line and its profile.
   // Throws uwscan::Error (naming the file) if the image has the wrong size.
@@ -45,6 +52,9 @@ class LineStage {
 
  private:
   laser::Detection Detect(const cv::Mat& image, const FrameRecord& record);
+  // Whether the line found with line_prior_ has points off it (something
+  // that appeared; then the frame is detected again on whole scan lines).
+  bool OffThePrior(const laser::Detection& detection) const;
   void StartSweepFilter();
 
   const ReconstructJob& job_;
@@ -57,6 +67,13 @@ class LineStage {
   laser::DetectorOptions detector_;
   std::optional<laser::SweepFilter> sweep_filter_;
   std::optional<laser::MotionFilter> motion_filter_;
+  bool windowed_ = false;  // ReconstructJob::line_window_px applies
+  // The last detection's line per scan line (interval of positions; NaN
+  // where none), the scan lines it is on, and the frames detected with a
+  // prior since the last whole scan.
+  std::vector<std::pair<float, float>> line_prior_;
+  int prior_lines_ = 0;
+  int windowed_frames_ = 0;
   cv::Mat dark_image_;  // the last laser-off frame of an interleaved scan
   size_t dark_frame_ = 0;
 };

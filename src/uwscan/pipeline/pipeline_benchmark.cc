@@ -25,6 +25,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   job.quiet = true;
   job.async_bundle_adjustment = options.async_bundle_adjustment;
   job.track_every = options.track_every;
+  if (options.line_window_px) job.line_window_px = *options.line_window_px;
   job.Check();  // before the (long) simulation
   double simulate_seconds = 0.0;
   if (job.dataset.empty()) {

@@ -57,6 +57,14 @@ struct ReconstructJob {
   // Drop line detections on an albedo edge, judged in the flood-lit channel
   // (laser::DetectorOptions::albedo_channel; red for a green laser).
   bool drop_albedo_edges = true;
+  // Search each scan line for the line only within this many pixels of
+  // where the frame before had it (laser::DetectorOptions::line_prior);
+  // whole scan lines where it had none, in every
+  // LineStage::kWholeScanEvery-th frame, and again when a point turns up
+  // off that line; 0: every scan line whole. Servo sweeps and fixed
+  // lasers without the motion filter only (that filter judges the
+  // candidates of whole scan lines).
+  int line_window_px = laser::DetectorOptions{}.line_window_px;
   // Interleaved datasets (frames.csv laser_on): detect the line in the
   // difference of each laser-on frame and the laser-off frame before it.
   bool detect_on_difference = true;
@@ -136,6 +144,10 @@ struct ReconstructReport {
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
+  // As used (ReconstructJob::line_window_px; 0: whole scan lines), and the
+  // frames with a point off the windows' line, detected again whole.
+  int line_window_px = 0;
+  int frames_line_window_redone = 0;
   int passes = 1;                        // the self-referenced odometry's (ReconstructJob::passes)
   int track_every = 1;                   // the odometry's, as used (ReconstructJob::track_every)
   bool async_bundle_adjustment = false;  // as used (ReconstructJob::async_bundle_adjustment)

@@ -21,6 +21,9 @@ void ReconstructJob::Check() const {
   UWS_CHECK(!out.empty(), "--out: empty output folder name");
   if (track_every < 0)
     throw UsageError("--track-every must be auto or >= 1, got " + std::to_string(track_every));
+  if (line_window_px < 0)
+    throw UsageError("--line-window must be >= 0 (0 = whole scan lines), got " +
+                     std::to_string(line_window_px));
   if (self_referenced.max_tracking_width < 0)
     throw UsageError("--max-tracking-width must be >= 0 (0 = full resolution), got " +
                      std::to_string(self_referenced.max_tracking_width));
@@ -226,6 +229,8 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"earlier_passes", seconds_earlier_passes}}},
           {"passes", passes},
           {"track_every", track_every},
+          {"line_window_px", line_window_px},
+          {"frames_line_window_redone", frames_line_window_redone},
           {"async_bundle_adjustment", async_bundle_adjustment},
           {"sequence_duration_s", sequence_duration_s},
           {"real_time_factor", RealTimeFactor()}};

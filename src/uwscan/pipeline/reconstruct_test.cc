@@ -80,6 +80,34 @@ TEST_F(ReconstructTest, TruePosesGiveMillimetreCloud) {
 // The distance to the scene along the optical axis, for the evaluation's
 // viewed-point motion: against the floor plane z = 0 met by each true axis
 // (the target on it stands 5 mm proud); 0 without a scene.
+// Each frame's line searched only near the frame before's (the default,
+// ReconstructJob::line_window_px) is found as on whole scan lines: about
+// as many points, as accurate. Not the very same points: on whole scan
+// lines a stronger segment elsewhere can outrank a weak one, and the
+// servo sweep's filter remembers the candidates of whole scan lines.
+TEST_F(ReconstructTest, LineWindowFindsTheLineAsWholeScanLinesDo) {
+  ReconstructJob job;
+  job.dataset = root_ / "data";
+  job.poses_file = job.dataset / "groundtruth.tum";
+  job.quiet = true;
+  for (const bool texture_filter : {true, false}) {
+    job.texture_filter = texture_filter;
+    std::vector<ReconstructReport> reports;
+    std::vector<double> errors;
+    for (const int window : {48, 0}) {
+      job.line_window_px = window;
+      job.out = root_ / ("out_window" + std::to_string(window));
+      reports.push_back(RunReconstruct(job));
+      EXPECT_EQ(reports.back().line_window_px, window);
+      errors.push_back(EvaluateReconstruction(job.dataset, job.out).compensated.point_error_rms_m);
+    }
+    SCOPED_TRACE(texture_filter ? "sweep filter" : "no sweep filter");
+    EXPECT_GT(reports[1].points, 24 * 100);
+    EXPECT_GE(reports[0].points, reports[1].points * 98 / 100);
+    EXPECT_LT(errors[0], 1.1 * errors[1]);
+  }
+}
+
 TEST_F(ReconstructTest, MedianViewedDepthIsTheDistanceToTheFloor) {
   std::vector<double> depths;
   for (const StampedPose& pose : ReadTum(root_ / "data" / "groundtruth.tum")) {
