@@ -46,7 +46,6 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
   if (job.texture_filter) {
     if (LaserSweeps(frames)) {
       StartSweepFilter();
-      line_prior_.clear();  // that was a frame ahead's line
     } else {
       laser::MotionFilterOptions motion;
       motion.scan_rows = detector_.scan_rows;
@@ -54,7 +53,8 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
       motion_filter_.emplace(camera, motion);
     }
   }
-  // The motion filter judges the candidates of whole scan lines.
+  // The motion filter judges the candidates of whole scan lines. (Set
+  // only now: the sweep filter's frame ahead is searched whole.)
   windowed_ = job.line_window_px > 0 && !motion_filter_;
   if (windowed_) detector_.line_window_px = job.line_window_px;
   report_->line_window_px = windowed_ ? job.line_window_px : 0;
@@ -159,9 +159,8 @@ laser::Detection LineStage::Detect(const cv::Mat& image, const FrameRecord& reco
     line_prior_.assign(ScanLines(), {std::numeric_limits<float>::quiet_NaN(), 0.0f});
     prior_lines_ = 0;
     const auto add = [&](const laser::LaserPoint& p) {
-      const int line = static_cast<int>(std::lround(detector_.scan_rows ? p.v : p.u));
+      const auto [line, position] = OnScanLine(p);
       if (line < 0 || line >= static_cast<int>(line_prior_.size())) return;
-      const float position = static_cast<float>(detector_.scan_rows ? p.u : p.v);
       auto& [from, to] = line_prior_[line];
       if (std::isnan(from)) from = to = position, ++prior_lines_;
       from = std::min(from, position), to = std::max(to, position);
@@ -176,6 +175,12 @@ laser::Detection LineStage::Detect(const cv::Mat& image, const FrameRecord& reco
   return detection;
 }
 
+std::pair<int, float> LineStage::OnScanLine(const laser::LaserPoint& p) const {
+  return detector_.scan_rows
+             ? std::pair{static_cast<int>(std::lround(p.v)), static_cast<float>(p.u)}
+             : std::pair{static_cast<int>(std::lround(p.u)), static_cast<float>(p.v)};
+}
+
 bool LineStage::OffThePrior(const laser::Detection& detection) const {
   // A point on a scan line without a prior continues the line if it lies
   // within the window of the prior of a scan line nearby (the line grown
@@ -184,9 +189,8 @@ bool LineStage::OffThePrior(const laser::Detection& detection) const {
   const int lines = static_cast<int>(line_prior_.size());
   const float window = static_cast<float>(detector_.line_window_px);
   const auto off = [&](const laser::LaserPoint& p) {
-    const int line = static_cast<int>(std::lround(detector_.scan_rows ? p.v : p.u));
+    const auto [line, position] = OnScanLine(p);
     if (line < 0 || line >= lines || std::isfinite(line_prior_[line].first)) return false;
-    const float position = static_cast<float>(detector_.scan_rows ? p.u : p.v);
     for (int l = std::max(0, line - kPriorNeighbourLines);
          l <= std::min(lines - 1, line + kPriorNeighbourLines); ++l) {
       const auto [from, to] = line_prior_[l];

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "uwscan/io/dataset.h"
@@ -55,6 +56,8 @@ class LineStage {
   // Whether the line found with line_prior_ has points off it (something
   // that appeared; then the frame is detected again on whole scan lines).
   bool OffThePrior(const laser::Detection& detection) const;
+  // A detected point's scan line and position along it.
+  std::pair<int, float> OnScanLine(const laser::LaserPoint& p) const;
   void StartSweepFilter();
 
   const ReconstructJob& job_;
