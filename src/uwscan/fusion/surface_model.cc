@@ -33,12 +33,47 @@ SurfaceModel::SurfaceModel(const Camera& camera, const Rigid3d& world_from_refer
   cells_.insert_counts.assign(cells_.bins.size(), 0);
 }
 
+namespace {
+
+// The cell a pixel falls in, unclamped, and which side of the image's far
+// edges it is on. Pixels with the same key lie in one rectangle, and so
+// does the segment between them.
+struct CellKey {
+  double column, row;
+  bool left_of_right_edge, above_bottom_edge;
+  bool operator==(const CellKey& other) const {
+    return column == other.column && row == other.row &&
+           left_of_right_edge == other.left_of_right_edge &&
+           above_bottom_edge == other.above_bottom_edge;
+  }
+};
+
+CellKey KeyOf(const Eigen::Vector2d& pixel, const Camera& camera, int cell_px) {
+  return {std::floor((pixel.x() + 0.5) / cell_px), std::floor((pixel.y() + 0.5) / cell_px),
+          pixel.x() <= camera.width - 0.5, pixel.y() <= camera.height - 0.5};
+}
+
+}  // namespace
+
 std::optional<Eigen::Vector2i> SurfaceModel::CellOf(const Eigen::Vector3d& point_world) const {
-  const auto pixel = camera_.Project(reference_from_world_ * point_world);
-  if (!pixel || !camera_.InImage(*pixel)) return std::nullopt;
-  const int c = std::clamp(static_cast<int>((pixel->x() + 0.5) / options_.cell_px), 0, cols_ - 1);
-  const int r = std::clamp(static_cast<int>((pixel->y() + 0.5) / options_.cell_px), 0, rows_ - 1);
-  return Eigen::Vector2i(c, r);
+  const Eigen::Vector3d point = reference_from_world_ * point_world;
+  // Most points are placed by two bounds of their exact pixel, at a third
+  // of its cost; those near a cell's edge by the pixel itself.
+  std::optional<CellKey> key;
+  if (const auto bounds = camera_.ProjectBounds(point, kCellBoundsTolerance)) {
+    const CellKey low = KeyOf(bounds->first, camera_, options_.cell_px);
+    if (low == KeyOf(bounds->second, camera_, options_.cell_px)) key = low;
+  }
+  if (!key) {
+    const auto pixel = camera_.Project(point);
+    if (!pixel) return std::nullopt;
+    key = KeyOf(*pixel, camera_, options_.cell_px);
+  }
+  // In the image (Camera::InImage) exactly when on the near side of all four edges.
+  if (!(key->column >= 0 && key->row >= 0 && key->left_of_right_edge && key->above_bottom_edge))
+    return std::nullopt;
+  return Eigen::Vector2i(std::min(static_cast<int>(key->column), cols_ - 1),
+                         std::min(static_cast<int>(key->row), rows_ - 1));
 }
 
 void SurfaceModel::AddProfile(const Rigid3d& world_from_camera, const laser::Profile& profile) {

@@ -87,6 +87,11 @@ class SurfaceModel {
   // (SurfaceModelOptions::front_min_fraction).
   bool HasFrontSurface() const { return DominantPlane() && !front_points_.empty(); }
 
+  // Points are binned by two bounds of their pixel this far apart in the
+  // sine of the air ray's angle (Camera::ProjectBounds), a few 1e-4 px at
+  // f = 800 px; by the exact pixel where the bounds fall in two cells.
+  static constexpr double kCellBoundsTolerance = 1e-7;
+
  private:
   std::optional<Eigen::Vector2i> CellOf(const Eigen::Vector3d& point_world) const;
   std::optional<Eigen::Vector3d> IntersectSwept(const Eigen::Vector3d& origin,

@@ -1,11 +1,13 @@
 #include "uwscan/pipeline/projection_benchmark.h"
 
 #include <chrono>
+#include <functional>
 #include <iomanip>
 #include <random>
 #include <sstream>
 
 #include "uwscan/eval/port_analysis.h"
+#include "uwscan/fusion/surface_model.h"
 #include "uwscan/sensor/camera.h"
 #include "uwscan/sensor/pinhole.h"
 #include "uwscan/util/error.h"
@@ -16,11 +18,22 @@ namespace {
 // Keeps the compiler from discarding the projections.
 volatile double g_sink = 0.0;
 
+// A projection as two pixels the exact one lies between (the same pixel
+// twice but for the bounds).
+using Bounds = std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>>;
+
 struct Method {
   std::string name;
-  ProjectionMethod method;
-  int iterations;
+  std::function<Bounds(const Camera&, const Eigen::Vector3d&)> project;
 };
+
+Method Projection(const std::string& name, ProjectionMethod method, int iterations) {
+  return {name, [method, iterations](const Camera& camera, const Eigen::Vector3d& point) -> Bounds {
+            const auto pixel = camera.Project(point, method, iterations);
+            if (!pixel) return std::nullopt;
+            return std::pair{*pixel, *pixel};
+          }};
+}
 
 }  // namespace
 
@@ -33,11 +46,17 @@ std::vector<ProjectionRate> RunProjectionBenchmark(const ProjectionBenchmarkOpti
   options.Check();
   const std::vector<std::pair<std::string, Camera>> cameras = {
       {"Flat1", Camera::Flat1()}, {"Flat2", Camera::Flat2()}, {"Flat3", Camera::Flat3()}};
-  const std::vector<Method> methods = {{"pinhole", ProjectionMethod::kPinhole, 0},
-                                       {"taylor1", ProjectionMethod::kTaylor, 1},
-                                       {"taylor2", ProjectionMethod::kTaylor, 2},
-                                       {"taylor3", ProjectionMethod::kTaylor, 3},
-                                       {"exact", ProjectionMethod::kExact, 0}};
+  // "bounds": Camera::ProjectBounds at the tolerance the surface model's
+  // binning uses; its error is the farther bound's.
+  const std::vector<Method> methods = {
+      Projection("pinhole", ProjectionMethod::kPinhole, 0),
+      Projection("taylor1", ProjectionMethod::kTaylor, 1),
+      Projection("taylor2", ProjectionMethod::kTaylor, 2),
+      Projection("taylor3", ProjectionMethod::kTaylor, 3),
+      Projection("exact", ProjectionMethod::kExact, 0),
+      {"bounds", [](const Camera& camera, const Eigen::Vector3d& point) {
+         return camera.ProjectBounds(point, fusion::SurfaceModel::kCellBoundsTolerance);
+       }}};
   std::vector<ProjectionRate> rates;
   for (const auto& [name, camera] : cameras) {
     std::mt19937 rng(options.seed);
@@ -60,8 +79,8 @@ std::vector<ProjectionRate> RunProjectionBenchmark(const ProjectionBenchmarkOpti
         double sum = 0.0;
         const auto start = std::chrono::steady_clock::now();
         for (const auto& point : points) {
-          const auto pixel = camera.Project(point, method.method, method.iterations);
-          if (pixel) sum += pixel->x();
+          const auto pixel = method.project(camera, point);
+          if (pixel) sum += pixel->first.x();
         }
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -69,8 +88,11 @@ std::vector<ProjectionRate> RunProjectionBenchmark(const ProjectionBenchmarkOpti
         best_seconds = std::min(best_seconds, seconds);
       }
       for (size_t i = 0; i < points.size(); ++i) {
-        const auto pixel = camera.Project(points[i], method.method, method.iterations);
-        if (pixel) max_error = std::max(max_error, (*pixel - exact[i]).norm());
+        const auto pixel = method.project(camera, points[i]);
+        if (pixel) {
+          max_error = std::max(
+              {max_error, (pixel->first - exact[i]).norm(), (pixel->second - exact[i]).norm()});
+        }
       }
       rates.push_back({name, method.name, points.size() / best_seconds, max_error});
     }

@@ -57,6 +57,27 @@ std::optional<Eigen::Vector2d> Camera::Project(const Eigen::Vector3d& point_in_c
   return pixel;
 }
 
+std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> Camera::ProjectBounds(
+    const Eigen::Vector3d& point_in_camera, double tolerance) const {
+  if (!IsFlatPort()) {
+    const auto pixel = Project(point_in_camera);
+    if (!pixel) return std::nullopt;
+    return std::pair{*pixel, *pixel};
+  }
+  const auto port_params = port.Params();
+  double air[2][3];
+  if (!FlatPortModel::BracketAirRay(port.normal.data(), port_params.data(), point_in_camera.data(),
+                                    tolerance, air[0], air[1])) {
+    return std::nullopt;
+  }
+  Eigen::Vector2d pixels[2];
+  for (int i = 0; i < 2; ++i) {
+    PinholeModel::NormalizedToImage(intrinsics.data(), distortion.data(), air[i][0] / air[i][2],
+                                    air[i][1] / air[i][2], pixels[i].data());
+  }
+  return std::pair{pixels[0], pixels[1]};
+}
+
 std::optional<Ray> Camera::BackProject(const Eigen::Vector2d& pixel) const {
   Ray ray;
   if (!IsFlatPort()) {
