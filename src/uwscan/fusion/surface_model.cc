@@ -57,8 +57,8 @@ CellKey KeyOf(const Eigen::Vector2d& pixel, const Camera& camera, int cell_px) {
 
 std::optional<Eigen::Vector2i> SurfaceModel::CellOf(const Eigen::Vector3d& point_world) const {
   const Eigen::Vector3d point = reference_from_world_ * point_world;
-  // Most points are placed by two bounds of their exact pixel, at a third
-  // of its cost; those near a cell's edge by the pixel itself.
+  // Most points are placed by two bounds of their exact pixel, at half
+  // its cost; those near a cell's edge by the pixel itself.
   std::optional<CellKey> key;
   if (const auto bounds = camera_.ProjectBounds(point, kCellBoundsTolerance)) {
     const CellKey low = KeyOf(bounds->first, camera_, options_.cell_px);

@@ -131,6 +131,50 @@ TEST(SurfaceModel, BinningWhenReadEqualsBinningAsAdded) {
   EXPECT_GT(hits, 30);
 }
 
+// Points a hair's breadth (1e-5 px) either side of a cell's edge and of
+// the image's edges go where their exact pixel says. Groups of four fill a
+// cell of four: two groups that shared a cell would count four points, not
+// eight, and a group counted outside the image or inside it wrongly would
+// change the count too.
+TEST(SurfaceModel, PointsBesideACellsEdgeAreBinnedByTheExactPixel) {
+  Camera camera = Camera::Flat1();
+  camera.distortion = {-0.25, 0.08, 0.001, -0.0015, -0.01};
+  SurfaceModelOptions options;
+  options.max_points_per_cell = 4;
+  SurfaceModel surface(camera, Rigid3d(), options);
+  const double hair = 1e-5, cell = options.cell_px;
+  laser::Profile profile;
+  int inside_groups = 0;
+  auto add_group = [&](double x, double y) {
+    for (double depth : {0.5, 1.0, 2.0, 3.0}) {
+      const auto ray = camera.BackProject(Eigen::Vector2d(x, y));
+      ASSERT_TRUE(ray.has_value());
+      const Eigen::Vector3d point = ray->At((depth - ray->origin.z()) / ray->direction.z());
+      profile.points.push_back({point, Eigen::Vector2d(x, y), 1.0f});
+    }
+    inside_groups += camera.InImage(Eigen::Vector2d(x, y));
+  };
+  // Column edges on rows of their own, row edges on columns of their own.
+  for (int k = 1; k < 8; ++k) {
+    const double row_y = (3 * k + 0.5) * cell, edge_x = 9 * k * cell - 0.5;
+    add_group(edge_x - hair, row_y);
+    add_group(edge_x + hair, row_y);
+    const double column_x = (9 * k + 4.5) * cell, edge_y = 7 * k * cell - 0.5;
+    add_group(column_x, edge_y - hair);
+    add_group(column_x, edge_y + hair);
+  }
+  // The image's edges.
+  for (const double side : {-1.0, 1.0}) {
+    add_group(-0.5 + side * hair, 100.0);
+    add_group(camera.width - 0.5 + side * hair, 300.0);
+    add_group(700.0, -0.5 + side * hair);
+    add_group(900.0, camera.height - 0.5 + side * hair);
+  }
+  surface.AddProfile(Rigid3d(), profile);
+  EXPECT_EQ(inside_groups, 32);
+  EXPECT_EQ(surface.size(), 4 * inside_groups);
+}
+
 TEST(SurfaceModel, OneProfileGivesNoPlane) {
   const Camera camera = Camera::Flat1();
   // A hull of 4 m radius, z = 2 + x^2 / 8 (camera frame), and a shaft at

@@ -68,7 +68,7 @@ struct Camera {
   // them (up to the lens distortion's bend over that tiny segment), for a
   // flat port at most `tolerance` apart in the sine of the air ray's angle
   // (FlatPortModel::BracketAirRay); a pinhole's pixel twice. For deciding
-  // which cell a point falls in at a third of Project's cost. None where
+  // which cell a point falls in at half Project's cost. None where
   // only Project can tell.
   std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> ProjectBounds(
       const Eigen::Vector3d& point_in_camera, double tolerance) const;

@@ -148,7 +148,7 @@ struct FlatPortModel {
 
   // --- Bracketed forward projection (doubles) ------------------------------
   // For callers that need a point's pixel only to tell which side of a line
-  // it falls on (binning into cells), at about a third of ExactAirRay's cost.
+  // it falls on (binning into cells), at half the exact projection's cost.
   // Newton steps on the same f(s) as SolveSine, from the start that neglects
   // the port's thickness, until |f(s)| / f'(0) < `tolerance`: f is convex
   // and increasing on [0, s_max), so f' >= f'(0) there and that quotient
