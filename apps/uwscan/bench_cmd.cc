@@ -79,7 +79,8 @@ void RegisterBenchCommands(CLI::App& app) {
   auto pipeline_dataset = std::make_shared<std::string>();
   auto* pipeline = bench->add_subcommand(
       "pipeline",
-      "Time the self-referenced reconstruction (real-time factor, peak memory) as JSON");
+      "Time the self-referenced reconstruction (real-time factor, peak memory, CPU time and "
+      "cores kept busy, the load average before) as JSON");
   pipeline->add_option("--dataset", *pipeline_dataset, "dataset (default: simulate tank-target)");
   pipeline->add_option("--frames", pipeline_options->frames)->capture_default_str();
   pipeline->add_option("--width", pipeline_options->width)->capture_default_str();

@@ -38,6 +38,18 @@ expect_status 1 "bench tracks, no scene" "$uwscan" bench tracks --dataset "$work
 grep -q "real/scene.yaml: missing" "$work/err" || fail "bench tracks: unclear error without scene.yaml"
 expect_status 1 "bench tracks, no dataset" "$uwscan" bench tracks --dataset "$work/none"
 grep -q "none: no such dataset folder" "$work/err" || fail "bench tracks: unclear error without dataset"
+# bench pipeline on a tank it simulates (too few frames above for a
+# start): JSON with the speed, the memory and the CPU time it took (cores
+# kept busy: more than none, no more than the machine has); a missing
+# dataset is named in the error.
+expect_status 0 "bench pipeline" "$uwscan" bench pipeline --frames 20 --width 320 --height 240
+for key in real_time_factor peak_memory_mb cpu_s cores_busy load_average_before; do
+  grep -q "\"$key\": [0-9]" "$work/out" || fail "bench pipeline: no $key"
+done
+awk -v cores="$(nproc)" '/"cores_busy":/ { sub(",", "", $2); ok = $2 > 0 && $2 <= cores + 0.5 }
+  END { exit !ok }' "$work/out" || fail "bench pipeline: cores_busy out of range"
+expect_status 1 "bench pipeline, no dataset" "$uwscan" bench pipeline --dataset "$work/none"
+grep -q "none: no such dataset folder" "$work/err" || fail "bench pipeline: unclear error without dataset"
 [ "$(wc -l < "$work/ds/laser_gt.csv")" -gt 100 ] || fail "laser_gt.csv too short"
 [ -z "$(cat "$work/out")" ] || fail "--quiet printed to stdout"
 
@@ -111,6 +123,10 @@ expect_status 2 "reconstruct --max-init-refinements below --init-refinements" "$
 grep -q "max-init-refinements (2) must be at least --init-refinements (3)" "$work/err" ||
   fail "--max-init-refinements 2 --init-refinements 3: unclear error"
 [ ! -e "$work/pods.refine" ] || fail "--max-init-refinements below --init-refinements wrote output"
+expect_status 1 "reconstruct, no dataset" "$uwscan" reconstruct --dataset "$work/none" \
+  --out "$work/none.out" --quiet
+grep -q "none: no such dataset folder" "$work/err" || fail "reconstruct: unclear error without dataset"
+[ ! -e "$work/none.out" ] || fail "reconstruct without a dataset wrote output"
 expect_status 2 "reconstruct --passes 4" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.passes4" --passes 4 --quiet
 grep -q "passes must be auto, 1, 2 or 3, got '4'" "$work/err" || fail "--passes 4: unclear error"

@@ -3,12 +3,25 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
+
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/sim/simulate.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace fs = std::filesystem;
+
+namespace {
+
+// User and system time of all the process's threads so far.
+double CpuSeconds(const rusage& usage) {
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+}  // namespace
 
 void PipelineBenchmarkOptions::Check() const {
   UWS_CHECK(frames >= 10, "bench pipeline: --frames must be >= 10");
@@ -36,6 +49,13 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
     job.dataset = scratch / "dataset";
     simulate_seconds = sim::SimulateScenario("tank-target", scenario, job.dataset).seconds;
   }
+  // The machine's other work shows in the 1-minute load average before the
+  // run; the run's own CPU time (all its threads) against its wall time
+  // tells how many cores it kept busy, so whether two cores are its limit.
+  double load_before = -1.0;
+  if (getloadavg(&load_before, 1) != 1) load_before = -1.0;
+  rusage before{};
+  getrusage(RUSAGE_SELF, &before);
   ReconstructReport report;
   try {
     report = RunReconstruct(job);
@@ -46,6 +66,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   fs::remove_all(scratch);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
+  const double cpu_seconds = CpuSeconds(usage) - CpuSeconds(before);
   nlohmann::json json = report.ToJson();
   json["benchmark"] = "pipeline";
   json["track_every"] = report.track_every;
@@ -54,6 +75,9 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   json["frames_per_second"] = report.frames / std::max(report.seconds, 1e-9);
   json["peak_memory_mb"] = usage.ru_maxrss / 1024.0;
   json["threads"] = 2;  // processing + reading the next frame
+  json["cpu_s"] = cpu_seconds;
+  json["cores_busy"] = cpu_seconds / std::max(report.seconds, 1e-9);
+  if (load_before >= 0) json["load_average_before"] = load_before;
   return json;
 }
 

@@ -450,6 +450,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
 ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
+  UWS_CHECK(fs::is_directory(job.dataset), job.dataset.string(), ": no such dataset folder");
   if (provider || job.poses_file || job.passes == 1)
     return RunPass(job, std::move(provider), 1, 1, nullptr, nullptr);
   MeasuredScene measured;
