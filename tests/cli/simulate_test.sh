@@ -28,6 +28,8 @@ done
 [ "$(head -1 "$work/ds/frames.csv")" = "index,timestamp_s,file,laser_angle_rad" ] || fail "frames.csv header"
 [ "$(grep -vc '^#' "$work/ds/groundtruth.tum")" -eq 3 ] || fail "groundtruth.tum rows"
 [ "$(head -1 "$work/ds/laser_gt.csv")" = "frame,laser,u,v,x,y,z" ] || fail "laser_gt.csv header"
+[ "$(wc -l < "$work/ds/laser_gt.csv")" -gt 100 ] || fail "laser_gt.csv too short"
+[ -z "$(cat "$work/out")" ] || fail "--quiet printed to stdout"
 
 # bench tracks on it: JSON with the flow gain; a dataset without its scene
 # (not simulated) or no dataset at all is named in the error.
@@ -38,6 +40,7 @@ expect_status 1 "bench tracks, no scene" "$uwscan" bench tracks --dataset "$work
 grep -q "real/scene.yaml: missing" "$work/err" || fail "bench tracks: unclear error without scene.yaml"
 expect_status 1 "bench tracks, no dataset" "$uwscan" bench tracks --dataset "$work/none"
 grep -q "none: no such dataset folder" "$work/err" || fail "bench tracks: unclear error without dataset"
+
 # bench pipeline on a tank it simulates (too few frames above for a
 # start): JSON with the speed, the memory and the CPU time it took (cores
 # kept busy: more than none, no more than the machine has); a missing
@@ -50,8 +53,6 @@ awk -v cores="$(nproc)" '/"cores_busy":/ { sub(",", "", $2); ok = $2 > 0 && $2 <
   END { exit !ok }' "$work/out" || fail "bench pipeline: cores_busy out of range"
 expect_status 1 "bench pipeline, no dataset" "$uwscan" bench pipeline --dataset "$work/none"
 grep -q "none: no such dataset folder" "$work/err" || fail "bench pipeline: unclear error without dataset"
-[ "$(wc -l < "$work/ds/laser_gt.csv")" -gt 100 ] || fail "laser_gt.csv too short"
-[ -z "$(cat "$work/out")" ] || fail "--quiet printed to stdout"
 
 # Deterministic for a seed: the same command gives identical files.
 expect_status 0 "tank-target again" "$uwscan" simulate tank-target --out "$work/ds2" --frames 3 \
