@@ -17,7 +17,7 @@ struct ProjectionBenchmarkOptions {
 
 struct ProjectionRate {
   std::string camera;
-  std::string method;  // pinhole, taylor1, taylor2, taylor3, exact
+  std::string method;  // pinhole, taylor1, taylor2, taylor3, exact, bounds
   double points_per_second = 0.0;
   double max_error_px = 0.0;  // against exact (0 for exact itself)
 };
