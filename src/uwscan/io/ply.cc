@@ -45,7 +45,7 @@ PlyStreamWriter::PlyStreamWriter(std::filesystem::path path)
 void PlyStreamWriter::Add(const CloudPoint& p) {
   UWS_CHECK(p.position.allFinite(), path_.string(), ": refusing a non-finite point");
   // One stream write per point: eight took twice as long (BENCHMARKS.md,
-  // "Twenty-third session").
+  // "Unseen scans, and the PLY writer").
   char record[kRecordBytes];
   char* out = record;
   out = Put(out, p.position.x());
