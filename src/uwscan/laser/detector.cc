@@ -462,8 +462,8 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
       detection.stats.excluded_candidates = ExcludePeaks(o.exclude_candidate, &peaks);
     }
     auto segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
-    selected =
-        SelectSegments(peaks, segments, image.rows, o.min_segment_lines, o.min_relative_strength);
+    selected = SelectSegments(peaks, segments, image.rows, o.min_segment_lines,
+                              o.min_relative_strength, o.line_continuity_px);
     const double excluded = detection.stats.excluded_candidates;
     if (excluded > 0 && excluded > o.exclude_restore_fraction * (excluded + selected.size())) {
       // Nearly the whole line would go: the sweep stalled or the scene is
@@ -472,8 +472,8 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
       detection.stats.excluded_candidates =
           o.exclude_candidate_on_restore ? ExcludePeaks(o.exclude_candidate_on_restore, &peaks) : 0;
       segments = GroupPeaks(peaks, o.max_jump_px, o.max_gap_lines);
-      selected =
-          SelectSegments(peaks, segments, image.rows, o.min_segment_lines, o.min_relative_strength);
+      selected = SelectSegments(peaks, segments, image.rows, o.min_segment_lines,
+                                o.min_relative_strength, o.line_continuity_px);
       detection.stats.exclusion_restored = true;
     }
     detection.stats.segments = static_cast<int>(segments.size());

@@ -55,6 +55,12 @@ struct DetectorOptions {
   // Further segments must reach this share of the best segment's mean
   // strength: the line is one light source, texture stripes are fainter.
   double min_relative_strength = 0.3;
+  // After the best segment, those continuing the line taken so far (an end
+  // within this, plus a pixel per scan line between) win their scan lines
+  // before the others: dark texture breaks the line into short pieces, and a
+  // bright blob beside one (marine snow lit by the floods) would otherwise
+  // take its lines (SelectSegments). 0: by score alone.
+  double line_continuity_px = 4.0;
   bool cross_channel_suppression = true;  // §5.5: drop peaks stronger in another channel
   // Albedo edges (thesis method): the line's image is the laser's irradiance
   // times the surface albedo, so where the line runs along an albedo edge (a

@@ -70,6 +70,7 @@ void DetectorOptions::Check() const {
             "laser detection: invalid connectivity settings");
   UWS_CHECK(min_relative_strength >= 0.0 && min_relative_strength <= 1.0,
             "laser detection: relative segment strength must be in [0, 1]");
+  UWS_CHECK(line_continuity_px >= 0.0, "laser detection: line continuity must be >= 0 px");
   UWS_CHECK(cog_threshold > 0.0 && cog_threshold < 1.0,
             "laser detection: cog threshold must be in (0, 1)");
   UWS_CHECK(laser_channel >= kRed && laser_channel <= kMono, "laser detection: invalid channel");

@@ -358,6 +358,46 @@ TEST(LaserSegments, ScoreFollowsEquation51AndSelectionAvoidsOverlap) {
   EXPECT_EQ(std::adjacent_find(lines.begin(), lines.end()), lines.end());
 }
 
+// Dark texture breaks the line into pieces; a bright blob beside one (a
+// particle lit by the floods) outscores that piece. By score alone the blob
+// takes the piece's scan lines; with line continuity the piece keeps them,
+// and a segment off the line on scan lines of its own (a shaft in front of a
+// hull) is still taken.
+TEST(LaserSegments, PiecesContinuingTheLineKeepTheirScanLines) {
+  std::vector<Peak> peaks;
+  const auto line_at = [](int line) { return 50.0 + 0.2 * line; };
+  for (int line = 0; line < 60; ++line) {
+    const bool gap = (line >= 10 && line < 13) || (line >= 21 && line < 24);
+    // The piece on a dark square between two brighter ones, the last of
+    // which outscores the blob (the line's long pieces do).
+    const float strength = line < 10 ? 0.2f : (line < 21 ? 0.05f : 0.4f);
+    if (!gap && line < 40) peaks.push_back({line, line_at(line), strength, kGreen});
+    if (line >= 13 && line < 21) peaks.push_back({line, 110.0, 0.6f, kGreen});   // the blob
+    if (line >= 45) peaks.push_back({line, 200.0 + 0.5 * line, 0.15f, kGreen});  // the shaft
+  }
+  std::sort(peaks.begin(), peaks.end(),
+            [](const Peak& a, const Peak& b) { return a.line < b.line; });
+  const auto segments = GroupPeaks(peaks, 2, 2);
+  ASSERT_EQ(segments.size(), 5u);  // three pieces of the line, the blob, the shaft
+  const auto positions_on = [&](const std::vector<std::pair<int, int>>& selected, int from,
+                                int to) {
+    std::vector<double> positions;
+    for (const auto& [p, s] : selected) {
+      if (peaks[p].line >= from && peaks[p].line < to) positions.push_back(peaks[p].position);
+    }
+    return positions;
+  };
+  const auto by_score = SelectSegments(peaks, segments, 60, 6, 0.0, 0.0);
+  for (double position : positions_on(by_score, 13, 21)) EXPECT_EQ(position, 110.0);
+  const auto continuous = SelectSegments(peaks, segments, 60, 6, 0.0, 4.0);
+  const auto piece = positions_on(continuous, 13, 21);
+  ASSERT_EQ(piece.size(), 8u);
+  for (size_t i = 0; i < piece.size(); ++i) EXPECT_DOUBLE_EQ(piece[i], line_at(13 + int(i)));
+  EXPECT_EQ(positions_on(continuous, 0, 40).size(), 34u);   // the whole line
+  EXPECT_EQ(positions_on(continuous, 45, 60).size(), 15u);  // and the shaft
+  EXPECT_EQ(positions_on(by_score, 45, 60).size(), 15u);
+}
+
 TEST(LaserDetector, RejectsBadImages) {
   EXPECT_THROW(DetectLaserLine(cv::Mat(), ColourLayout::kMono, DetectorOptions{}), Error);
   EXPECT_THROW(DetectLaserLine(cv::Mat(10, 10, CV_32F), ColourLayout::kMono, DetectorOptions{}),

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace uwscan::laser {
@@ -71,7 +72,8 @@ std::vector<Segment> GroupPeaks(const std::vector<Peak>& peaks, int max_jump, in
 std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
                                                 const std::vector<Segment>& segments,
                                                 int line_count, int min_lines,
-                                                double min_relative_strength) {
+                                                double min_relative_strength,
+                                                double continuity_px) {
   std::vector<int> order(segments.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
@@ -81,23 +83,61 @@ std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
     for (int p : segment.peaks) sum += peaks[p].strength;
     return sum / segment.peaks.size();
   };
-  std::vector<bool> line_taken(line_count, false);
+  // Position of the line taken on each scan line (NaN: none yet).
+  std::vector<double> taken_at(line_count, std::numeric_limits<double>::quiet_NaN());
+  const auto taken = [&](int line) { return !std::isnan(taken_at[line]); };
+  // Whether an end of the segment continues the line taken next to it:
+  // within continuity_px plus a pixel per scan line between them.
+  const auto continues_line = [&](const Segment& segment) {
+    const Peak& first = peaks[segment.peaks.front()];
+    const Peak& last = peaks[segment.peaks.back()];
+    for (int line = first.line - 1; line >= 0; --line) {
+      if (!taken(line)) continue;
+      if (std::abs(taken_at[line] - first.position) <= continuity_px + (first.line - line))
+        return true;
+      break;
+    }
+    for (int line = last.line + 1; line < line_count; ++line) {
+      if (!taken(line)) continue;
+      return std::abs(taken_at[line] - last.position) <= continuity_px + (line - last.line);
+    }
+    return false;
+  };
+  std::vector<bool> used(segments.size(), false);
   std::vector<std::pair<int, int>> selected;
   double reference = -1.0;  // mean strength of the best selected segment
-  for (int s : order) {
+  const auto take = [&](int s, bool must_continue) {
     const auto& segment = segments[s];
-    if (static_cast<int>(segment.peaks.size()) < min_lines) continue;
-    if (reference > 0.0 && mean_strength(segment) < min_relative_strength * reference) continue;
+    if (used[s] || static_cast<int>(segment.peaks.size()) < min_lines) return false;
+    if (reference > 0.0 && mean_strength(segment) < min_relative_strength * reference) return false;
     int free_lines = 0;
-    for (int p : segment.peaks) free_lines += !line_taken[peaks[p].line];
-    if (free_lines < min_lines) continue;
+    for (int p : segment.peaks) free_lines += !taken(peaks[p].line);
+    if (free_lines < min_lines) return false;
+    if (must_continue && !continues_line(segment)) return false;
     if (reference < 0.0) reference = mean_strength(segment);
+    used[s] = true;
     for (int p : segment.peaks) {
-      if (line_taken[peaks[p].line]) continue;
-      line_taken[peaks[p].line] = true;
+      if (taken(peaks[p].line)) continue;
+      taken_at[peaks[p].line] = peaks[p].position;
       selected.emplace_back(p, s);
     }
+    return true;
+  };
+  // The best segment; then, while any is left, those that continue the
+  // line taken so far, by score, so that a piece of the line broken off by
+  // dark texture keeps its scan lines against a brighter blob beside it
+  // (marine snow lit by the floods); then any, by score, on the scan lines
+  // still free (a shaft in front of a hull, a second surface).
+  for (int s : order) {
+    if (take(s, false)) break;
   }
+  if (continuity_px > 0.0) {
+    for (bool more = true; more;) {
+      more = false;
+      for (int s : order) more = take(s, true) || more;
+    }
+  }
+  for (int s : order) take(s, false);
   std::sort(selected.begin(), selected.end(), [&](const auto& a, const auto& b) {
     return peaks[a.first].line < peaks[b.first].line;
   });

@@ -31,11 +31,15 @@ std::vector<Segment> GroupPeaks(const std::vector<Peak>& peaks, int max_jump, in
 // Takes segments by decreasing score; a segment contributes its peaks on
 // lines not yet taken, if at least min_lines of them remain and its mean
 // strength is at least `min_relative_strength` of the mean strength of the
-// best segment (a faint texture stripe is not the laser). Returns the
-// selected peak indices with their segment ids (index into `segments`).
+// best segment (a faint texture stripe is not the laser). With
+// `continuity_px` > 0, after the best segment those that continue the line
+// taken so far (an end within continuity_px, plus a pixel per scan line
+// between, of it) go first, by score, and the others after them. Returns
+// the selected peak indices with their segment ids (index into `segments`).
 std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
                                                 const std::vector<Segment>& segments,
                                                 int line_count, int min_lines,
-                                                double min_relative_strength = 0.0);
+                                                double min_relative_strength = 0.0,
+                                                double continuity_px = 0.0);
 
 }  // namespace uwscan::laser
