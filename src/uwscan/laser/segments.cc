@@ -78,30 +78,29 @@ std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return segments[a].score > segments[b].score; });
-  const auto mean_strength = [&](const Segment& segment) {
+  // Each segment's mean strength, once (the continuity rounds ask again).
+  std::vector<double> mean_strength(segments.size());
+  for (size_t s = 0; s < segments.size(); ++s) {
     double sum = 0.0;
-    for (int p : segment.peaks) sum += peaks[p].strength;
-    return sum / segment.peaks.size();
-  };
+    for (int p : segments[s].peaks) sum += peaks[p].strength;
+    mean_strength[s] = sum / segments[s].peaks.size();
+  }
   // Position of the line taken on each scan line (NaN: none yet).
   std::vector<double> taken_at(line_count, std::numeric_limits<double>::quiet_NaN());
   const auto taken = [&](int line) { return !std::isnan(taken_at[line]); };
-  // Whether an end of the segment continues the line taken next to it:
-  // within continuity_px plus a pixel per scan line between them.
-  const auto continues_line = [&](const Segment& segment) {
-    const Peak& first = peaks[segment.peaks.front()];
-    const Peak& last = peaks[segment.peaks.back()];
-    for (int line = first.line - 1; line >= 0; --line) {
-      if (!taken(line)) continue;
-      if (std::abs(taken_at[line] - first.position) <= continuity_px + (first.line - line))
-        return true;
-      break;
-    }
-    for (int line = last.line + 1; line < line_count; ++line) {
-      if (!taken(line)) continue;
-      return std::abs(taken_at[line] - last.position) <= continuity_px + (line - last.line);
+  // Whether the end `end` continues the line taken nearest to it in
+  // direction `step` (-1 before, +1 after): within continuity_px plus a
+  // pixel per scan line between them.
+  const auto continues_at = [&](const Peak& end, int step) {
+    for (int line = end.line + step; line >= 0 && line < line_count; line += step) {
+      if (taken(line))
+        return std::abs(taken_at[line] - end.position) <= continuity_px + std::abs(line - end.line);
     }
     return false;
+  };
+  const auto continues_line = [&](const Segment& segment) {
+    return continues_at(peaks[segment.peaks.front()], -1) ||
+           continues_at(peaks[segment.peaks.back()], +1);
   };
   std::vector<bool> used(segments.size(), false);
   std::vector<std::pair<int, int>> selected;
@@ -109,12 +108,12 @@ std::vector<std::pair<int, int>> SelectSegments(const std::vector<Peak>& peaks,
   const auto take = [&](int s, bool must_continue) {
     const auto& segment = segments[s];
     if (used[s] || static_cast<int>(segment.peaks.size()) < min_lines) return false;
-    if (reference > 0.0 && mean_strength(segment) < min_relative_strength * reference) return false;
+    if (reference > 0.0 && mean_strength[s] < min_relative_strength * reference) return false;
     int free_lines = 0;
     for (int p : segment.peaks) free_lines += !taken(peaks[p].line);
     if (free_lines < min_lines) return false;
     if (must_continue && !continues_line(segment)) return false;
-    if (reference < 0.0) reference = mean_strength(segment);
+    if (reference < 0.0) reference = mean_strength[s];
     used[s] = true;
     for (int p : segment.peaks) {
       if (taken(peaks[p].line)) continue;
