@@ -42,11 +42,16 @@ void RegisterLaserCommands(CLI::App& app) {
       ->capture_default_str();
   detect->add_option("--sigma", job->detector.line_sigma_px, "expected line sigma (px)")
       ->capture_default_str();
+  auto keep_off_colour = std::make_shared<bool>(false);
+  detect->add_flag("--keep-off-colour", *keep_off_colour,
+                   "keep line candidates whose third colour shows less than 15 % of the laser's "
+                   "share of light (as reconstruct --keep-off-colour)");
   detect->add_flag("--quiet", job->quiet, "no summary");
   detect->callback([=] {
     const auto parsed = laser::MethodFromName(*method);
     if (!parsed) throw UsageError("--method must be thesis, cog or argmax");
     job->detector.method = *parsed;
+    if (*keep_off_colour) job->detector.min_signature_share = 0.0;
     if (dataset->empty() == images->empty()) throw UsageError("give either --dataset or --images");
     job->dataset_dir = *dataset;
     job->images_dir = *images;

@@ -41,6 +41,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto no_line_ranges = std::make_shared<bool>(false);
   auto line_ranges = std::make_shared<bool>(false);
   auto keep_albedo_edges = std::make_shared<bool>(false);
+  auto keep_off_colour = std::make_shared<bool>(false);
   auto passes = std::make_shared<std::string>("auto");
   auto track_every = std::make_shared<std::string>("auto");
   auto contrast_scale = std::make_shared<std::string>("auto");
@@ -74,6 +75,10 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--keep-albedo-edges", *keep_albedo_edges,
                 "keep line points on an albedo edge (dropped by default: the edge pulls the "
                 "sub-pixel fit towards its bright side; judged in the flood-lit colour channel)");
+  cmd->add_flag("--keep-off-colour", *keep_off_colour,
+                "keep line candidates whose third colour (blue beside a green laser) shows less "
+                "than 15 % of the laser's share of light (dropped by default: spots lit by the "
+                "floods, such as marine snow near the lights)");
   cmd->add_option("--line-window", job->line_window_px,
                   "search each image row (or column) for the laser line only within this many "
                   "pixels of where the frame before had it; whole rows where it had none, in "
@@ -155,6 +160,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->texture_filter = !*keep_static;
     job->epipolar_texture = !*no_epipolar;
     job->drop_albedo_edges = !*keep_albedo_edges;
+    job->drop_off_colour = !*keep_off_colour;
     job->detect_on_difference = !*no_difference;
     if (*no_line_ranges && *line_ranges) {
       throw UsageError("--line-ranges and --no-line-ranges exclude each other");

@@ -29,6 +29,10 @@ int ChannelFromName(const std::string& name);
 // (DetectorOptions::albedo_channel): red for a green laser (the thesis's red
 // LEDs), green for a red or blue one, -1 for mono.
 int AlbedoChannelFor(int laser_channel);
+// The colour that is neither the laser's nor its albedo channel's
+// (DetectorOptions::min_signature_share): blue for a green or red laser,
+// red for a blue one; -1 for mono.
+int SignatureChannelFor(int laser_channel);
 
 // How the input image stores colour.
 enum class ColourLayout { kMono, kBgr, kBayerRggb, kBayerBggr, kBayerGrbg, kBayerGbrg };
@@ -62,6 +66,21 @@ struct DetectorOptions {
   // take its lines (SelectSegments). 0: by score alone.
   double line_continuity_px = 4.0;
   bool cross_channel_suppression = true;  // §5.5: drop peaks stronger in another channel
+  // Colour signature (§5.5's colour separation, one step on): light of one
+  // wavelength reaches the three colours of the camera's filters in fixed
+  // shares, whatever the surface, the water or the range, and a flood's
+  // broad spectrum does not (a red LED gives no blue). In the third colour,
+  // neither the laser's nor the albedo's (blue beside a green laser and red
+  // LEDs), a segment that shows less than this share of what the frame's
+  // line gives it for as much laser light is not the laser: marine snow lit
+  // by the floods, bright enough to clip red and show in green through the
+  // filters' crosstalk, which the cross-channel test cannot judge (red is
+  // clipped). Judged only where the line's share would stand well out of
+  // the noise: at least min_signature_height (of full scale, summed across
+  // the line: some 13 grey levels of 255) per peak on average. 0: off; also
+  // off for mono images.
+  double min_signature_share = 0.15;
+  double min_signature_height = 0.05;
   // Albedo edges (thesis method): the line's image is the laser's irradiance
   // times the surface albedo, so where the line runs along an albedo edge (a
   // checkerboard square's side) the fit is pulled towards the bright side by
@@ -124,6 +143,12 @@ struct DetectionStats {
   bool exclusion_restored = false;  // nearly all would have gone: kept
   double albedo_crosstalk = 0.0;    // the line's share seen in the albedo channel
   int albedo_edge_points = 0;       // dropped on an albedo edge
+  // DetectorOptions::min_signature_share: the line's share in the third
+  // colour (0: not measured), and the segments and peaks dropped for
+  // showing too little of it.
+  double colour_signature = 0.0;
+  int off_colour_segments = 0;
+  int off_colour_peaks = 0;
 };
 
 struct Detection {

@@ -60,6 +60,12 @@ int AlbedoChannelFor(int laser_channel) {
   return -1;
 }
 
+int SignatureChannelFor(int laser_channel) {
+  if (laser_channel == kGreen || laser_channel == kRed) return kBlue;
+  if (laser_channel == kBlue) return kRed;
+  return -1;
+}
+
 void DetectorOptions::Check() const {
   UWS_CHECK(line_sigma_px > 0.2 && line_sigma_px < 50.0,
             "laser detection: line sigma must be 0.2-50 px");
@@ -79,6 +85,8 @@ void DetectorOptions::Check() const {
   UWS_CHECK(min_albedo_reference >= 0.0 && max_albedo_step > 1.0,
             "laser detection: albedo step must be > 1");
   UWS_CHECK(line_window_px >= 1, "laser detection: line window must be >= 1 px");
+  UWS_CHECK(min_signature_share >= 0.0 && min_signature_share < 1.0 && min_signature_height >= 0.0,
+            "laser detection: colour signature share must be in [0, 1), its height >= 0");
 }
 
 }  // namespace uwscan::laser

@@ -42,6 +42,7 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
   detector_.laser_channel = laser::ChannelForWavelength(laser.wavelength_nm);
   detector_.albedo_channel =
       job.drop_albedo_edges ? laser::AlbedoChannelFor(detector_.laser_channel) : -1;
+  if (!job.drop_off_colour) detector_.min_signature_share = 0.0;
   detector_.make_mask = true;
   if (job.texture_filter) {
     if (LaserSweeps(frames)) {
@@ -92,6 +93,8 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     }
     report_->static_detections_removed += detection->stats.excluded_candidates;
     report_->albedo_edge_points += detection->stats.albedo_edge_points;
+    report_->off_colour_points += detection->stats.off_colour_peaks;
+    report_->frames_with_off_colour += detection->stats.off_colour_segments > 0;
     // Noise and texture peaks are ignored now and then on any scene; a
     // stripe or reflection shows on many scan lines of a frame.
     report_->frames_with_static_detections +=

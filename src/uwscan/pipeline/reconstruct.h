@@ -57,6 +57,10 @@ struct ReconstructJob {
   // Drop line detections on an albedo edge, judged in the flood-lit channel
   // (laser::DetectorOptions::albedo_channel; red for a green laser).
   bool drop_albedo_edges = true;
+  // Drop line segments whose third colour shows too little of the laser's
+  // share of light (laser::DetectorOptions::min_signature_share; flood-lit
+  // marine snow).
+  bool drop_off_colour = true;
   // Search each scan line for the line only within this many pixels of
   // where the frame before had it (laser::DetectorOptions::line_prior);
   // whole scan lines where it had none, in every
@@ -140,6 +144,10 @@ struct ReconstructReport {
   bool line_ranges = false;     // whether the odometry used them
   double contrast_scale = 0.0;  // the odometry's, as used (ReconstructJob::contrast_scale)
   long albedo_edge_points = 0;  // line points dropped on an albedo edge
+  // Line candidates dropped for their colour (ReconstructJob::drop_off_colour),
+  // and the frames with such a segment.
+  long off_colour_points = 0;
+  int frames_with_off_colour = 0;
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;

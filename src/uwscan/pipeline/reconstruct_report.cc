@@ -168,6 +168,13 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
   }
+  if (frames_with_off_colour > 0) {
+    warnings.push_back(
+        "in " + std::to_string(frames_with_off_colour) + " frame(s) bright spots beside the line " +
+        "showed too little of the laser's colour signature (lit by the floods, not the laser: " +
+        "marine snow or other particles near the lights): ignored, " +
+        std::to_string(off_colour_points) + " candidates in all (--keep-off-colour keeps them)");
+  }
   if (count("bundle_adjustments_stopped_by_time_limit") > 0) {
     warnings.push_back(std::to_string(count("bundle_adjustments_stopped_by_time_limit")) + " of " +
                        std::to_string(count("bundle_adjustments")) +
@@ -216,6 +223,8 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"line_ranges", line_ranges},
           {"contrast_scale", contrast_scale},
           {"points_dropped_on_albedo_edges", albedo_edge_points},
+          {"off_colour_candidates_ignored", off_colour_points},
+          {"frames_with_off_colour_candidates", frames_with_off_colour},
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},
           {"pose", pose_details},
