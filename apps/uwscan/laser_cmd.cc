@@ -1,5 +1,7 @@
 // uwscan laser detect
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "commands.h"
 #include "uwscan/pipeline/laser_detect.h"
@@ -43,9 +45,11 @@ void RegisterLaserCommands(CLI::App& app) {
   detect->add_option("--sigma", job->detector.line_sigma_px, "expected line sigma (px)")
       ->capture_default_str();
   auto keep_off_colour = std::make_shared<bool>(false);
-  detect->add_flag("--keep-off-colour", *keep_off_colour,
-                   "keep line candidates whose third colour shows less than 15 % of the laser's "
-                   "share of light (as reconstruct --keep-off-colour)");
+  detect->add_flag(
+      "--keep-off-colour", *keep_off_colour,
+      "keep line candidates whose third colour shows less than " +
+          std::to_string(std::lround(100 * laser::DetectorOptions{}.min_signature_share)) +
+          " % of the laser's share of light (as reconstruct --keep-off-colour)");
   detect->add_flag("--quiet", job->quiet, "no summary");
   detect->callback([=] {
     const auto parsed = laser::MethodFromName(*method);

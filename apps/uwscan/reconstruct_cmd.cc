@@ -1,4 +1,5 @@
 // uwscan reconstruct: the self-referenced scan of a dataset.
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -75,10 +76,13 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_flag("--keep-albedo-edges", *keep_albedo_edges,
                 "keep line points on an albedo edge (dropped by default: the edge pulls the "
                 "sub-pixel fit towards its bright side; judged in the flood-lit colour channel)");
-  cmd->add_flag("--keep-off-colour", *keep_off_colour,
-                "keep line candidates whose third colour (blue beside a green laser) shows less "
-                "than 15 % of the laser's share of light (dropped by default: spots lit by the "
-                "floods, such as marine snow near the lights)");
+  cmd->add_flag(
+      "--keep-off-colour", *keep_off_colour,
+      "keep line candidates whose third colour (blue beside a green laser) shows less "
+      "than " +
+          std::to_string(std::lround(100 * laser::DetectorOptions{}.min_signature_share)) +
+          " % of the laser's share of light (dropped by default: spots lit by the "
+          "floods, such as marine snow near the lights)");
   cmd->add_option("--line-window", job->line_window_px,
                   "search each image row (or column) for the laser line only within this many "
                   "pixels of where the frame before had it; whole rows where it had none, in "

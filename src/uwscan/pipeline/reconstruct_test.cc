@@ -177,6 +177,14 @@ ReconstructJob SimulatedJob(const fs::path& root, const std::string& scenario,
   return job;
 }
 
+// ... and placed with the simulator's true poses.
+ReconstructJob SimulatedJobOnTruePoses(const fs::path& root, const std::string& scenario,
+                                       const sim::ScenarioOptions& options) {
+  ReconstructJob job = SimulatedJob(root, scenario, options);
+  job.poses_file = job.dataset / "groundtruth.tum";
+  return job;
+}
+
 // A tank-target scan at 480x360 with a white stripe painted beside the
 // target, simulated into root/data, and a job placing it with the true poses.
 ReconstructJob StripeScanWithTruePoses(const fs::path& root, int frames, uint64_t seed,
@@ -185,8 +193,7 @@ ReconstructJob StripeScanWithTruePoses(const fs::path& root, int frames, uint64_
   options.painted_stripe_m = 0.02;
   options.painted_stripe_colour = "white";
   options.laser_interleave = interleave;
-  ReconstructJob job = SimulatedJob(root, "tank-target", options);
-  job.poses_file = job.dataset / "groundtruth.tum";
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
   return job;
 }
 
@@ -200,8 +207,7 @@ TEST(ReconstructAlbedoEdges, PointsOnTheTargetsSquareEdgesAreDropped) {
   sim::ScenarioOptions options;
   options.frames = 16;
   options.seed = 21;
-  ReconstructJob job = SimulatedJob(root, "tank-target", options);
-  job.poses_file = job.dataset / "groundtruth.tum";
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
   job.out = root / "kept";
   job.drop_albedo_edges = false;
   const ReconstructReport kept = RunReconstruct(job);
@@ -289,8 +295,7 @@ TEST(ReconstructMarineSnow, FloodLitParticlesAreNotTakenForTheLine) {
   const fs::path root = TempFolder("marine_snow");
   sim::ScenarioOptions options = ScanOptions(480, 360, 40, 311);
   options.marine_snow_per_m3 = 2000;
-  ReconstructJob job = SimulatedJob(root, "tank-target", options);
-  job.poses_file = job.dataset / "groundtruth.tum";
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
   job.out = root / "dropped";
   const ReconstructReport dropped = RunReconstruct(job);
   EXPECT_GT(dropped.off_colour_points, 50);
@@ -377,8 +382,7 @@ TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
   const fs::path root = TempFolder("motion_filter");
   sim::ScenarioOptions options = ScanOptions(640, 480, 40, 1);
   options.painted_stripe_m = 0.02;
-  ReconstructJob job = SimulatedJob(root, "seabed-transect", options);
-  job.poses_file = job.dataset / "groundtruth.tum";
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "seabed-transect", options);
   job.out = root / "filtered";
   const ReconstructReport filtered = RunReconstruct(job);
   job.out = root / "kept";
