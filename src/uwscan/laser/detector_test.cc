@@ -407,50 +407,58 @@ TEST(LaserSegments, PiecesContinuingTheLineKeepTheirScanLines) {
 // it (red is clipped). One lit by the laser itself has the line's colours
 // and stays.
 TEST(LaserDetector, SpotsWithoutTheLasersColourSignatureAreDropped) {
-  const ColourLayout layout = ColourLayout::kBayerRggb;
-  SyntheticLineOptions o;
-  o.layout = layout;
-  SyntheticLine line = RenderSyntheticLine(o);
-  SyntheticLineOptions dark = o;
-  dark.amplitude = 0.0;
-  const cv::Mat unlit = RenderSyntheticLine(dark).image;
-  unlit.rowRange(100, 125).copyTo(line.image.rowRange(100, 125));  // the line is missing there
-  const auto paint_spot = [&](cv::Mat* image, double u, double v, const cv::Vec3d& rgb) {
-    for (int y = int(v) - 6; y <= int(v) + 6; ++y) {
-      for (int x = int(u) - 6; x <= int(u) + 6; ++x) {
-        const double r2 = (x - u) * (x - u) + (y - v) * (y - v);
-        const double add = 255.0 * std::exp(-0.5 * r2 / (2.0 * 2.0));
-        const double value = image->at<uint8_t>(y, x) + add * rgb[BayerColourAt(layout, y, x)];
-        image->at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(value);
+  for (const ColourLayout layout : {ColourLayout::kBayerRggb, ColourLayout::kBgr}) {
+    SCOPED_TRACE(layout == ColourLayout::kBgr ? "BGR" : "RGGB");
+    SyntheticLineOptions o;
+    o.layout = layout;
+    SyntheticLine line = RenderSyntheticLine(o);
+    SyntheticLineOptions dark = o;
+    dark.amplitude = 0.0;
+    const cv::Mat unlit = RenderSyntheticLine(dark).image;
+    unlit.rowRange(100, 125).copyTo(line.image.rowRange(100, 125));  // the line is missing there
+    const auto paint_spot = [&](cv::Mat* image, double u, double v, const cv::Vec3d& rgb) {
+      for (int y = int(v) - 6; y <= int(v) + 6; ++y) {
+        for (int x = int(u) - 6; x <= int(u) + 6; ++x) {
+          const double r2 = (x - u) * (x - u) + (y - v) * (y - v);
+          const double add = 255.0 * std::exp(-0.5 * r2 / (2.0 * 2.0));
+          if (layout == ColourLayout::kBgr) {
+            cv::Vec3b& pixel = image->at<cv::Vec3b>(y, x);
+            for (int c = 0; c < 3; ++c)
+              pixel[2 - c] = cv::saturate_cast<uint8_t>(pixel[2 - c] + add * rgb[c]);
+          } else {
+            uint8_t& pixel = image->at<uint8_t>(y, x);
+            pixel = cv::saturate_cast<uint8_t>(pixel + add * rgb[BayerColourAt(layout, y, x)]);
+          }
+        }
       }
-    }
-  };
-  const double spot_u = 250.0, spot_v = 112.0;
-  const auto points_near_spot = [&](const Detection& detection) {
-    return std::count_if(detection.points.begin(), detection.points.end(),
-                         [&](const LaserPoint& p) { return std::abs(p.u - spot_u) < 10.0; });
-  };
-  // Lit by the red LED: red clipped many times over, a few per cent of it
-  // in green, no blue.
-  cv::Mat flood_lit = line.image.clone();
-  paint_spot(&flood_lit, spot_u, spot_v, {40.0, 2.5, 0.0});
-  DetectorOptions keep;
-  keep.min_signature_share = 0.0;
-  const Detection kept = DetectLaserLine(flood_lit, layout, keep);
-  EXPECT_GE(points_near_spot(kept), 6);  // without the test the spot takes its scan lines
-  const Detection dropped = DetectLaserLine(flood_lit, layout, DetectorOptions{});
-  EXPECT_EQ(points_near_spot(dropped), 0);
-  EXPECT_GE(dropped.stats.off_colour_segments, 1);
-  EXPECT_NEAR(dropped.stats.colour_signature, 0.15, 0.05);  // the line's blue per green
-  const Score score = Evaluate(dropped, line);
-  EXPECT_LT(score.outliers, 0.005);
-  EXPECT_GT(score.completeness, 0.95 * (240 - 25) / 240);
-  // Lit by the laser (a particle in the sheet): the line's colours, kept.
-  cv::Mat laser_lit = line.image.clone();
-  paint_spot(&laser_lit, spot_u, spot_v, o.laser_colour);
-  const Detection in_sheet = DetectLaserLine(laser_lit, layout, DetectorOptions{});
-  EXPECT_GE(points_near_spot(in_sheet), 6);
-  EXPECT_EQ(in_sheet.stats.off_colour_segments, 0);
+    };
+    const double spot_u = 250.0, spot_v = 112.0;
+    const auto points_near_spot = [&](const Detection& detection) {
+      return std::count_if(detection.points.begin(), detection.points.end(),
+                           [&](const LaserPoint& p) { return std::abs(p.u - spot_u) < 10.0; });
+    };
+    // Lit by the red LED: red clipped many times over, a few per cent of it
+    // in green, no blue.
+    cv::Mat flood_lit = line.image.clone();
+    paint_spot(&flood_lit, spot_u, spot_v, {40.0, 2.5, 0.0});
+    DetectorOptions keep;
+    keep.min_signature_share = 0.0;
+    const Detection kept = DetectLaserLine(flood_lit, layout, keep);
+    EXPECT_GE(points_near_spot(kept), 6);  // without the test the spot takes its scan lines
+    const Detection dropped = DetectLaserLine(flood_lit, layout, DetectorOptions{});
+    EXPECT_EQ(points_near_spot(dropped), 0);
+    EXPECT_GE(dropped.stats.off_colour_segments, 1);
+    EXPECT_NEAR(dropped.stats.colour_signature, 0.15, 0.05);  // the line's blue per green
+    const Score score = Evaluate(dropped, line);
+    EXPECT_LT(score.outliers, 0.005);
+    EXPECT_GT(score.completeness, 0.95 * (240 - 25) / 240);
+    // Lit by the laser (a particle in the sheet): the line's colours, kept.
+    cv::Mat laser_lit = line.image.clone();
+    paint_spot(&laser_lit, spot_u, spot_v, o.laser_colour);
+    const Detection in_sheet = DetectLaserLine(laser_lit, layout, DetectorOptions{});
+    EXPECT_GE(points_near_spot(in_sheet), 6);
+    EXPECT_EQ(in_sheet.stats.off_colour_segments, 0);
+  }
 }
 
 TEST(LaserDetector, RejectsBadImages) {
