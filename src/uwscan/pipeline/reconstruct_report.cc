@@ -169,11 +169,21 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " in all (--keep-static-detections keeps them)");
   }
   if (frames_with_off_colour > 0) {
-    warnings.push_back(
+    std::string warning =
         "in " + std::to_string(frames_with_off_colour) + " frame(s) bright spots beside the line " +
         "showed too little of the laser's colour signature (lit by the floods, not the laser: " +
         "marine snow or other particles near the lights): ignored, " +
-        std::to_string(off_colour_points) + " candidates in all (--keep-off-colour keeps them)");
+        std::to_string(off_colour_points) + " candidates in all (--keep-off-colour keeps them)";
+    // Particles in many frames are features too, at the wrong depth
+    // (BENCHMARKS.md, "The laser's colour signature against marine snow").
+    if (pose_source.rfind("self-referenced", 0) == 0 &&
+        frames_with_off_colour >= 0.05 * frames_lit) {
+      warning +=
+          "; the odometry's features on such particles take the depth of the scene behind "
+          "them, so expect the trajectory's scale to be off (15-26 % at one particle per litre "
+          "in the simulator; an INS trajectory with --poses places the cloud better)";
+    }
+    warnings.push_back(warning);
   }
   if (count("bundle_adjustments_stopped_by_time_limit") > 0) {
     warnings.push_back(std::to_string(count("bundle_adjustments_stopped_by_time_limit")) + " of " +

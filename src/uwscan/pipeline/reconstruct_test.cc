@@ -594,6 +594,20 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   const nlohmann::json json = turbid.ToJson();
   EXPECT_EQ(json["warnings"].size(), 6u);
 
+  // Marine snow: the particles the colour test ignored are named, and with
+  // the self-referenced poses in many frames what they do to the odometry.
+  ReconstructReport snowy = good;
+  snowy.frames_with_off_colour = 9;
+  snowy.off_colour_points = 80;
+  snowy.pose_source = "self-referenced visual odometry";
+  ASSERT_EQ(snowy.Warnings().size(), 1u);
+  EXPECT_NE(snowy.Warnings()[0].find("80 candidates"), std::string::npos);
+  EXPECT_EQ(snowy.Warnings()[0].find("scale"), std::string::npos);  // 9 of 200 frames
+  snowy.frames_with_off_colour = 10;
+  EXPECT_NE(snowy.Warnings()[0].find("scale to be off"), std::string::npos);
+  snowy.pose_source = "external trajectory";
+  EXPECT_EQ(snowy.Warnings()[0].find("scale"), std::string::npos);
+
   // No frame placed: the profiles are not short, there are none in the cloud.
   ReconstructReport unposed = good;
   unposed.points = 0;
