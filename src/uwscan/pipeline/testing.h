@@ -1,0 +1,54 @@
+// Simulated scans for the pipeline's tests: each test simulates what it
+// needs into a temporary folder of its own and reconstructs it.
+#pragma once
+
+#include <unistd.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/sim/scenario.h"
+#include "uwscan/sim/simulate.h"
+
+namespace uwscan::pipeline_testing {
+
+// A simulated scan's size, length and seed; the rest the scenario's own.
+inline sim::ScenarioOptions ScanOptions(int width, int height, int frames, uint64_t seed) {
+  sim::ScenarioOptions options;
+  options.width = width;
+  options.height = height;
+  options.frames = frames;
+  options.seed = seed;
+  return options;
+}
+
+// An empty temporary folder of this test process.
+inline std::filesystem::path TempFolder(const std::string& name) {
+  const std::filesystem::path root = std::filesystem::temp_directory_path() /
+                                     ("uwscan_" + name + "_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(root);
+  return root;
+}
+
+// `scenario` simulated into root/data, and a quiet job on it.
+inline ReconstructJob SimulatedJob(const std::filesystem::path& root, const std::string& scenario,
+                                   const sim::ScenarioOptions& options) {
+  sim::SimulateScenario(scenario, options, root / "data");
+  ReconstructJob job;
+  job.dataset = root / "data";
+  job.quiet = true;
+  return job;
+}
+
+// ... and placed with the simulator's true poses.
+inline ReconstructJob SimulatedJobOnTruePoses(const std::filesystem::path& root,
+                                              const std::string& scenario,
+                                              const sim::ScenarioOptions& options) {
+  ReconstructJob job = SimulatedJob(root, scenario, options);
+  job.poses_file = job.dataset / "groundtruth.tum";
+  return job;
+}
+
+}  // namespace uwscan::pipeline_testing
