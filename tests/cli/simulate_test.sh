@@ -169,14 +169,14 @@ head -c 2000 "$work/pods/frames/000001.png" > "$work/broken/frames/000001.png"
 expect_status 1 "reconstruct, truncated frame" "$uwscan" reconstruct --dataset "$work/broken" \
   --out "$work/broken.out" --quiet
 grep -q "frames/000001.png: truncated PNG" "$work/err" || fail "truncated frame: unclear error"
-[ ! -e "$work/broken.out/cloud.ply" ] || fail "truncated frame: cloud.ply left behind"
+[ ! -e "$work/broken.out" ] || fail "truncated frame: output folder left behind"
 "$uwscan" simulate tank-target --out "$work/small" --frames 1 --width 80 --height 60 --quiet ||
   fail "small dataset"
 cp "$work/small/frames/000000.png" "$work/broken/frames/000001.png"
 expect_status 1 "reconstruct, frame of the wrong size" "$uwscan" reconstruct \
   --dataset "$work/broken" --out "$work/broken.out2" --quiet
 grep -q "frames/000001.png: image is 80x60 but camera" "$work/err" || fail "wrong size: unclear error"
-[ ! -e "$work/broken.out2/cloud.ply" ] || fail "wrong size: cloud.ply left behind"
+[ ! -e "$work/broken.out2" ] || fail "wrong size: output folder left behind"
 
 # Usage errors: exit 2.
 expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "uwscan/io/dataset.h"
 #include "uwscan/io/rig_yaml.h"
@@ -157,7 +158,8 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   options.albedo_channel = job.albedo == "auto" ? laser::AlbedoChannelFor(options.laser_channel)
                                                 : laser::ChannelFromName(job.albedo);
   options.make_mask = false;  // not written by this command
-  if (job.overlay_dir) fs::create_directories(*job.overlay_dir);
+  std::optional<OutputFolder> overlays;
+  if (job.overlay_dir) overlays.emplace(*job.overlay_dir);
 
   AtomicFile detections(job.detections_csv);
   detections.stream() << "frame,u,v,channel,strength\n";
@@ -213,6 +215,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   }
   detections.Commit();
   if (profiles) profiles->Commit();
+  if (overlays) overlays->Keep();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

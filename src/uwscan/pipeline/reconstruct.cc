@@ -278,9 +278,6 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     provider = std::move(odometry);
   }
 
-  std::error_code error;
-  fs::create_directories(job.out, error);
-  UWS_CHECK(!error, job.out.string(), ": cannot create output folder: ", error.message());
   PlyStreamWriter cloud(job.out / "cloud.ply");
   PlyStreamWriter uncompensated(job.out / "cloud_uncompensated.ply");
   TumWriter trajectory(job.out / "trajectory.tum");
@@ -451,10 +448,15 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
   UWS_CHECK(fs::is_directory(job.dataset), job.dataset.string(), ": no such dataset folder");
-  if (provider || job.poses_file || job.passes == 1)
-    return RunPass(job, std::move(provider), 1, 1, nullptr, nullptr);
+  OutputFolder out(job.out);  // removed again if the run fails and left it empty
+  if (provider || job.poses_file || job.passes == 1) {
+    ReconstructReport report = RunPass(job, std::move(provider), 1, 1, nullptr, nullptr);
+    out.Keep();
+    return report;
+  }
   MeasuredScene measured;
   ReconstructReport report = RunPass(job, nullptr, 1, job.passes, nullptr, &measured);
+  out.Keep();  // the first pass's outputs stand
   // Auto: more passes only where the first found a surface in front of the
   // scene's main one, whose depths the features had to guess until the
   // laser reached it.

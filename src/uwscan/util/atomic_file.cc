@@ -31,6 +31,31 @@ void AtomicFile::Commit() {
   committed_ = true;
 }
 
+OutputFolder::OutputFolder(const std::filesystem::path& path) {
+  std::error_code error;
+  for (std::filesystem::path p = path; !p.empty() && !std::filesystem::exists(p, error);
+       p = p.parent_path()) {
+    made_.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  std::filesystem::create_directories(path, error);
+  if (!error && std::filesystem::is_directory(path, error)) return;
+  const std::string reason = error ? ": " + error.message() : std::string();
+  RemoveMade();  // a parent made before the failure
+  UWS_CHECK(false, path.string(), ": cannot create the output folder", reason);
+}
+
+OutputFolder::~OutputFolder() {
+  if (!keep_) RemoveMade();
+}
+
+void OutputFolder::RemoveMade() {
+  std::error_code ignored;
+  for (const auto& p : made_) {
+    if (!std::filesystem::remove(p, ignored)) break;  // not empty: it and those above stay
+  }
+}
+
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents) {
   AtomicFile file(path);
   file.stream() << contents;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace uwscan {
 
@@ -27,6 +28,28 @@ class AtomicFile {
   std::filesystem::path temp_path_;
   std::ofstream out_;
   bool committed_ = false;
+};
+
+// A job's output folder: made (with any missing parents) on construction,
+// throwing uwscan::Error naming it if it cannot be. If the job fails before
+// Keep(), the folders it made are removed again, those left empty (the
+// AtomicFiles in them remove their temporaries themselves): a failed run
+// leaves nothing under the folder's name. A folder that was there before
+// is never removed.
+class OutputFolder {
+ public:
+  explicit OutputFolder(const std::filesystem::path& path);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+  void Keep() { keep_ = true; }
+
+ private:
+  void RemoveMade();
+
+  std::vector<std::filesystem::path> made_;  // innermost first
+  bool keep_ = false;
 };
 
 // Writes a whole string atomically.

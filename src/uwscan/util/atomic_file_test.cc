@@ -1,0 +1,99 @@
+#include "uwscan/util/atomic_file.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+
+namespace fs = std::filesystem;
+
+class AtomicOutputTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("uwscan_atomic_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+  fs::path root_;
+};
+
+TEST_F(AtomicOutputTest, AFileAppearsOnlyOnCommit) {
+  const fs::path path = root_ / "a.txt";
+  {
+    AtomicFile file(path);
+    file.stream() << "half";
+  }  // not committed: a failed job
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::is_empty(root_));  // no temporary left either
+  WriteFileAtomic(path, "whole\n");
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "whole");
+}
+
+TEST_F(AtomicOutputTest, AFailedJobLeavesNoFolderItMade) {
+  const fs::path out = root_ / "new" / "deeper";
+  {
+    OutputFolder folder(out);
+    ASSERT_TRUE(fs::is_directory(out));
+    AtomicFile file(out / "cloud.ply");
+    file.stream() << "partial";
+  }  // the job threw: neither the file nor the two folders it made remain
+  EXPECT_FALSE(fs::exists(root_ / "new"));
+  {
+    OutputFolder folder(out);
+    WriteFileAtomic(out / "report.json", "{}\n");
+    folder.Keep();
+  }
+  EXPECT_TRUE(fs::exists(out / "report.json"));
+}
+
+TEST_F(AtomicOutputTest, AFolderThatWasThereOrIsNotEmptyStays) {
+  const fs::path existing = root_ / "existing";
+  fs::create_directories(existing);
+  { OutputFolder folder(existing); }
+  EXPECT_TRUE(fs::is_directory(existing));
+
+  // Files written into a new folder before the failure (complete images,
+  // say) keep it, and its parents.
+  const fs::path out = root_ / "made" / "overlays";
+  {
+    OutputFolder folder(out);
+    WriteFileAtomic(out / "000001.png", "x");
+  }
+  EXPECT_TRUE(fs::exists(out / "000001.png"));
+}
+
+TEST_F(AtomicOutputTest, AFileInTheWayIsAClearError) {
+  const fs::path blocker = root_ / "blocker";
+  WriteFileAtomic(blocker, "x");
+  try {
+    OutputFolder folder(blocker / "out");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("blocker/out: cannot create the output folder"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::is_regular_file(blocker));
+  try {
+    OutputFolder folder(blocker);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("blocker: cannot create the output folder"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace uwscan
