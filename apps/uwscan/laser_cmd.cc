@@ -50,7 +50,7 @@ void RegisterLaserCommands(CLI::App& app) {
       "keep line candidates whose third colour shows less than " +
           std::to_string(std::lround(100 * laser::DetectorOptions{}.min_signature_share)) +
           " % of the laser's share of light (as reconstruct --keep-off-colour)");
-  detect->add_flag("--quiet", job->quiet, "no summary");
+  detect->add_flag("--quiet", job->quiet, "no progress and no summary");
   detect->callback([=] {
     const auto parsed = laser::MethodFromName(*method);
     if (!parsed) throw UsageError("--method must be thesis, cog or argmax");

@@ -1,9 +1,11 @@
 // uwscan: underwater optical 3D scanning. Exit status: 0 success, 2 usage
-// error, 1 bad input or runtime failure ("uwscan: error: ..." on stderr).
+// error, 1 bad input or runtime failure ("uwscan: error: ..." on stderr),
+// 130 (143) interrupted by Ctrl-C (SIGTERM).
 #include <iostream>
 
 #include "commands.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"uwscan: underwater optical 3D scanning with flat-port cameras and line lasers"};
@@ -24,6 +26,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
+  } catch (const uwscan::Interrupted& e) {
+    std::cerr << "\nuwscan: " << e.what() << "\n";
+    return 128 + e.signal();
   } catch (const uwscan::UsageError& e) {
     std::cerr << "uwscan: usage error: " << e.what() << "\n";
     return 2;

@@ -12,6 +12,8 @@
 #include "uwscan/laser/profile.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
+#include "uwscan/util/progress.h"
 
 namespace uwscan {
 namespace fs = std::filesystem;
@@ -108,6 +110,7 @@ void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
 }  // namespace
 
 LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
+  InterruptibleScope interruptible;
   job.Check();
   const auto start = std::chrono::steady_clock::now();
   // Frames: a dataset's frames.csv (with servo angles) or a folder's images.
@@ -170,6 +173,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   }
   char line[160];
   LaserDetectSummary summary;
+  ProgressBar progress("laser detect", static_cast<long>(images.size()), !job.quiet);
   for (size_t i = 0; i < images.size(); ++i) {
     const size_t frame = static_cast<size_t>(indices[i]);
     const cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_UNCHANGED);
@@ -212,7 +216,10 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       WriteImageAtomic(*job.overlay_dir / (images[i].stem().string() + ".png"),
                        OverlayImage(image, layout, detection));
     }
+    progress.Update(static_cast<long>(i) + 1);
+    ThrowIfInterrupted();
   }
+  progress.Finish();
   detections.Commit();
   if (profiles) profiles->Commit();
   if (overlays) overlays->Keep();

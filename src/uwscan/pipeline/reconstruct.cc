@@ -21,6 +21,7 @@
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 #include "uwscan/util/progress.h"
 
 namespace uwscan {
@@ -371,6 +372,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     place(updates);
     report.seconds_io += Seconds(t);
     progress.Update(++frames_done);
+    ThrowIfInterrupted();
   }
   place(provider->Finish());
   report.seconds_io += reader.seconds_waiting();
@@ -421,6 +423,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
         ++camera_report.frames_without_pose;
       }
       progress.Update(++frames_done);
+      ThrowIfInterrupted();
     }
     report.seconds_io += other_reader.seconds_waiting();
     other_trajectory.Commit();
@@ -448,6 +451,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
   UWS_CHECK(fs::is_directory(job.dataset), job.dataset.string(), ": no such dataset folder");
+  InterruptibleScope interruptible;
   OutputFolder out(job.out);  // removed again if the run fails and left it empty
   if (provider || job.poses_file || job.passes == 1) {
     ReconstructReport report = RunPass(job, std::move(provider), 1, 1, nullptr, nullptr);

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -17,6 +18,7 @@
 #include "uwscan/pipeline/testing.h"
 #include "uwscan/sim/simulate.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 
 namespace uwscan {
 namespace {
@@ -366,7 +368,31 @@ TEST_F(ReconstructTest, BadInputIsAClearErrorWithoutOutput) {
   job.out = root_ / "out_missing";
   job.poses_file = root_ / "data" / "groundtruth.tum";
   EXPECT_THROW(RunReconstruct(job), Error);
-  EXPECT_FALSE(fs::exists(job.out / "cloud.ply"));
+  EXPECT_FALSE(fs::exists(job.out));
+}
+
+// Ctrl-C in the middle of a scan (here raised by the pose provider at the
+// third frame) stops it like an error: no folder, no temporary file left.
+TEST_F(ReconstructTest, CtrlCLeavesNothingBehind) {
+  struct RaisingProvider : fusion::PoseProvider {
+    std::vector<fusion::PoseUpdate> Add(const fusion::FrameInput& frame) override {
+      if (++frames == 3) std::raise(SIGINT);
+      return {{frame.index, Rigid3d()}};
+    }
+    std::string Name() const override { return "raising"; }
+    int frames = 0;
+  };
+  ReconstructJob job;
+  job.dataset = root_ / "data";
+  job.out = root_ / "interrupted" / "out";
+  job.quiet = true;
+  try {
+    RunReconstruct(job, std::make_unique<RaisingProvider>());
+    FAIL() << "not interrupted";
+  } catch (const Interrupted& e) {
+    EXPECT_EQ(e.signal(), SIGINT);
+  }
+  EXPECT_FALSE(fs::exists(root_ / "interrupted"));
 }
 
 // The report says why a result degraded (turbid water: no line, short

@@ -17,6 +17,7 @@
 #include "uwscan/pipeline/vo_dataset.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 
 namespace uwscan {
 namespace {
@@ -89,6 +90,7 @@ void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
 }
 
 VoRunSummary RunVisualOdometry(const VoJob& job) {
+  InterruptibleScope interruptible;
   job.Check();
   const auto start = std::chrono::steady_clock::now();
   const VoDataset dataset = ReadVoDataset(job.dataset_dir);
@@ -254,6 +256,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       std::cerr << "\rvo: frame " << i + 1 << "/" << total << " (" << summary.tracked
                 << " tracked, " << summary.lost << " lost)" << std::flush;
     }
+    ThrowIfInterrupted();
   }
   if (progress) std::cerr << "\n";
   summary.frames = total;

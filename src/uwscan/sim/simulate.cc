@@ -11,6 +11,7 @@
 #include "uwscan/sim/ins.h"
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 #include "uwscan/util/progress.h"
 
 namespace uwscan::sim {
@@ -58,6 +59,7 @@ void WriteCalibrationSet(const CalibrationSet& set, const fs::path& folder, Prog
     frames.Add({static_cast<int>(i), static_cast<double>(i), file, std::nullopt, std::nullopt});
     truth.Add({static_cast<double>(i), state.world_from_camera});
     progress->Update(++*done);
+    ThrowIfInterrupted();
   }
   frames.Commit();
   truth.Commit();
@@ -94,6 +96,7 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
       ++result->laser_points;
     }
     progress->Update(++*done);
+    ThrowIfInterrupted();
   }
   frames.Commit();
   truth.Commit();
@@ -114,6 +117,7 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
 }  // namespace
 
 SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, bool show_progress) {
+  InterruptibleScope interruptible;
   const auto start = std::chrono::steady_clock::now();
   UWS_CHECK(!out_dir.empty(), "--out: empty output folder name");
   std::error_code error;
