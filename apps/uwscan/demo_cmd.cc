@@ -8,7 +8,9 @@
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/sim/simulate.h"
+#include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 
 namespace uwscan::cli {
 namespace {
@@ -33,8 +35,8 @@ void RunDemo(const DemoArgs& args) {
   std::error_code error;
   if (fs::exists(dataset, error)) fs::remove_all(dataset, error);
   UWS_CHECK(!error, dataset.string(), ": cannot replace: ", error.message());
-  fs::create_directories(out, error);
-  UWS_CHECK(!error, out.string(), ": cannot create: ", error.message());
+  InterruptibleScope interruptible;
+  OutputFolder folder(out);  // removed again if the demo fails or is stopped before it fills it
 
   std::printf(
       "uwscan demo: a hovering ROV scans a checkerboard on the sea floor at 2 m with a green\n"
@@ -76,6 +78,7 @@ void RunDemo(const DemoArgs& args) {
               evaluation.uncompensated.point_error_rms_m * 1e3);
   std::printf("cloud: %s (open with CloudCompare, MeshLab or Open3D)\n",
               (job.out / "cloud.ply").string().c_str());
+  folder.Keep();
 }
 
 }  // namespace
