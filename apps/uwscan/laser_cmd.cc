@@ -4,6 +4,7 @@
 #include <string>
 
 #include "commands.h"
+#include "uwscan/laser/profile.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/error.h"
 
@@ -33,8 +34,10 @@ void RegisterLaserCommands(CLI::App& app) {
   detect->add_option("--out", *out, "detections.csv")->required();
   detect->add_option("--method", *method, "thesis | cog | argmax")->capture_default_str();
   detect->add_option("--overlay", *overlay, "folder for images with the detections drawn");
-  detect->add_option("--profiles", *profiles,
-                     "profiles.csv: triangulated points frame,x,y,z (camera frame, m)");
+  detect->add_option(
+      "--profiles", *profiles,
+      "profiles.csv: triangulated points frame,x,y,z (camera frame, m), without those whose "
+      "camera ray grazes the light sheet (as reconstruct)");
   detect->add_option("--scan", job->scan, "rows | cols | auto")->capture_default_str();
   detect->add_option("--channel", job->channel, "red | green | blue | auto")->capture_default_str();
   detect
@@ -70,6 +73,13 @@ void RegisterLaserCommands(CLI::App& app) {
                    "%.1f frames/s -> %s\n",
                    s.frames, s.frames_without_line, s.unreadable_frames, s.points,
                    s.frames / std::max(s.seconds, 1e-9), out->c_str());
+      if (s.grazing_points > 0) {
+        std::fprintf(stderr,
+                     "laser detect: %ld point(s) left out of the profiles: their camera ray "
+                     "grazes the light sheet (a pixel of error would move them by more than "
+                     "%g %% of their range)\n",
+                     s.grazing_points, 100.0 * laser::kMaxRangeErrorPerPixel);
+      }
     }
   });
 }

@@ -89,6 +89,12 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "every 10th frame, and again when something appears off that line (0 = every "
                   "row whole; not with a fixed laser's motion filter)")
       ->capture_default_str();
+  cmd->add_option("--max-range-error-per-px", job->max_range_error_per_px,
+                  "drop line points whose camera ray grazes the light sheet, so that one pixel "
+                  "of detection error would move them by more than this fraction of their range "
+                  "(something lit far from the line, carried by its ray to where it meets the "
+                  "sheet tens of metres away; 0 = keep all)")
+      ->capture_default_str();
   cmd->add_option("--max-dormant-frames", job->self_referenced.odometry.tracker.max_dormant_frames,
                   "frames a feature track cut by the laser line may stay lost and still be taken "
                   "up again under its id (thesis §5.5; 0 = off)")

@@ -1,6 +1,8 @@
 #include "uwscan/laser/profile.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 
 namespace uwscan::laser {
 
@@ -9,14 +11,31 @@ Rigid3d CameraFromLaserAtAngle(const Rigid3d& camera_from_laser, double angle_ra
   return camera_from_laser * Rigid3d(servo, Eigen::Vector3d::Zero());
 }
 
+namespace {
+
+// The angle between the rays of the image centre's pixel and its neighbour.
+double PixelAngle(const Camera& camera) {
+  const Eigen::Vector2d centre(0.5 * camera.width, 0.5 * camera.height);
+  const auto a = camera.BackProject(centre);
+  const auto b = camera.BackProject(centre + Eigen::Vector2d(1.0, 0.0));
+  if (!a || !b) return 0.0;
+  return std::atan2(a->direction.cross(b->direction).norm(), a->direction.dot(b->direction));
+}
+
+}  // namespace
+
 Profile TriangulateProfile(const Camera& camera, const LineProjector& laser,
                            const Rigid3d& camera_from_laser, const std::vector<LaserPoint>& points,
-                           int frame) {
+                           int frame, double max_range_error_per_px) {
   LineProjector posed = laser;
   posed.camera_from_laser = camera_from_laser;
   Profile profile;
   profile.frame = frame;
   profile.points.reserve(points.size());
+  // Per radian the ray turns, the range moves by cot(angle to the sheet) of itself.
+  const double max_cotangent = max_range_error_per_px > 0.0 && !points.empty()
+                                   ? max_range_error_per_px / std::max(PixelAngle(camera), 1e-12)
+                                   : 0.0;
   for (const auto& p : points) {
     const Eigen::Vector2d pixel(p.u, p.v);
     const auto ray = camera.BackProject(pixel);
@@ -24,6 +43,13 @@ Profile TriangulateProfile(const Camera& camera, const LineProjector& laser,
     if (!point || !point->allFinite()) {
       ++profile.failed;
       continue;
+    }
+    if (max_cotangent > 0.0) {
+      const double sine = posed.SineToSheet(ray->direction, *point);
+      if (!(sine * max_cotangent >= std::sqrt(1.0 - std::min(sine * sine, 1.0)))) {
+        ++profile.grazing;
+        continue;
+      }
     }
     profile.points.push_back({*point, pixel, p.strength});
   }

@@ -24,14 +24,27 @@ struct ProfilePoint {
 struct Profile {
   int frame = 0;
   std::vector<ProfilePoint> points;
-  int failed = 0;  // detections whose ray missed the sheet or the port
+  int failed = 0;   // detections whose ray missed the sheet or the port
+  int grazing = 0;  // detections whose ray grazes the sheet (max_range_error_per_px)
 };
+
+// A detection is off by up to a pixel or so. Where the camera ray meets the
+// light sheet at a small angle, that moves the triangulated point by a
+// large part of its range: such a point is not measured, it is something
+// lit far from the line (a particle near the lights, a reflection) that the
+// ray carries to where it grazes the sheet, tens of metres away. At 5 % per
+// pixel the tank rig at 640x480 keeps points out to some 20 m (at 2 m: 0.6 %
+// per pixel).
+inline constexpr double kMaxRangeErrorPerPixel = 0.05;
 
 // Triangulates every detection; `camera_from_laser` already includes any
 // servo angle. Detections whose ray cannot be formed or misses are counted
-// in `failed`, never returned as NaN.
+// in `failed`, never returned as NaN; those whose range would move by more
+// than `max_range_error_per_px` of itself for a one-pixel error (the angle
+// of a pixel at the image's centre over the tangent of the ray's angle to
+// the sheet) in `grazing` (0: none dropped).
 Profile TriangulateProfile(const Camera& camera, const LineProjector& laser,
                            const Rigid3d& camera_from_laser, const std::vector<LaserPoint>& points,
-                           int frame = 0);
+                           int frame = 0, double max_range_error_per_px = kMaxRangeErrorPerPixel);
 
 }  // namespace uwscan::laser

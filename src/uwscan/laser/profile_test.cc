@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 
 namespace uwscan::laser {
 namespace {
@@ -48,6 +50,61 @@ TEST(LaserProfile, TriangulatesDetectionsOnAServo) {
         EXPECT_LT((profile.points[i].point_in_camera - truth[i]).norm(), 1e-9);
       }
     }
+  }
+}
+
+// Walls ever farther along the sheet: the camera ray meets the sheet at an
+// ever smaller angle, and a pixel of detection error moves the point by
+// ever more of its range. Those past kMaxRangeErrorPerPixel are dropped and
+// counted; which, is checked against the range change of the detection
+// moved by a pixel across the line, triangulated again.
+TEST(LaserProfile, PointsWhoseRayGrazesTheSheetAreDropped) {
+  const Camera camera = Camera::Flat3();
+  for (double p1 : {0.0, 0.03}) {
+    const LineProjector laser = TestLaser(p1);
+    std::vector<LaserPoint> detections;
+    for (double wall : {1.0, 2.0, 5.0, 10.0, 20.0, 40.0, 80.0, 200.0, 1000.0}) {
+      for (double x = -0.1; x <= 0.1; x += 0.1) {
+        const Eigen::Vector3d direction =
+            laser.camera_from_laser.rotation * Eigen::Vector3d(x, p1 * x * x, 1.0);
+        const double lambda = (wall - laser.camera_from_laser.translation.z()) / direction.z();
+        const auto pixel = camera.Project(laser.camera_from_laser.translation + lambda * direction);
+        ASSERT_TRUE(pixel && camera.InImage(*pixel)) << wall;
+        detections.push_back({pixel->x(), pixel->y(), kGreen, 1.0f, 0});
+      }
+    }
+    const Profile all =
+        TriangulateProfile(camera, laser, laser.camera_from_laser, detections, 0, 0);
+    ASSERT_EQ(all.points.size(), detections.size());
+    EXPECT_EQ(all.grazing, 0);
+    const Profile gated = TriangulateProfile(camera, laser, laser.camera_from_laser, detections);
+    EXPECT_EQ(gated.failed, 0);
+    EXPECT_EQ(gated.points.size() + size_t(gated.grazing), detections.size());
+    int checked = 0;
+    for (const auto& p : all.points) {
+      // The line runs down the image: a detection error moves it along u.
+      double change = 0.0;
+      for (double du : {-1.0, 1.0}) {
+        const auto ray = camera.BackProject(p.pixel + Eigen::Vector2d(du, 0.0));
+        const auto moved = ray ? laser.Triangulate(*ray) : std::nullopt;
+        change = std::max(change,
+                          moved ? std::abs(moved->norm() / p.point_in_camera.norm() - 1.0) : 1.0);
+      }
+      const bool kept = std::any_of(gated.points.begin(), gated.points.end(),
+                                    [&](const auto& q) { return q.pixel == p.pixel; });
+      // (The limit uses the centre pixel's angle, and a pixel's step is not
+      // quite across the sheet: the decision may differ near it.)
+      if (change < 0.8 * kMaxRangeErrorPerPixel) {
+        EXPECT_TRUE(kept) << p.point_in_camera.z();
+      }
+      if (change > 1.25 * kMaxRangeErrorPerPixel) {
+        EXPECT_FALSE(kept) << p.point_in_camera.z();
+      }
+      checked += change < 0.8 * kMaxRangeErrorPerPixel || change > 1.25 * kMaxRangeErrorPerPixel;
+    }
+    EXPECT_GE(checked, 21);
+    EXPECT_GE(gated.grazing, 6);          // 200 and 1000 m at least
+    EXPECT_GE(gated.points.size(), 12u);  // 1-10 m at least
   }
 }
 

@@ -206,6 +206,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
           *camera, *laser, laser::CameraFromLaserAtAngle(camera_from_laser, angle),
           detection.points, static_cast<int>(frame));
       summary.profile_points += profile.points.size();
+      summary.grazing_points += profile.grazing;
       for (const auto& p : profile.points) {
         std::snprintf(line, sizeof(line), "%zu,%.7f,%.7f,%.7f\n", frame, p.point_in_camera.x(),
                       p.point_in_camera.y(), p.point_in_camera.z());

@@ -37,6 +37,7 @@ struct LaserDetectSummary {
   int unreadable_frames = 0;
   long points = 0;
   long profile_points = 0;
+  long grazing_points = 0;  // left out of the profiles (laser::kMaxRangeErrorPerPixel)
   double seconds = 0.0;
 };
 

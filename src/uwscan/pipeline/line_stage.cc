@@ -59,6 +59,7 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
   windowed_ = job.line_window_px > 0 && !motion_filter_;
   if (windowed_) detector_.line_window_px = job.line_window_px;
   report_->line_window_px = windowed_ ? job.line_window_px : 0;
+  report_->max_range_error_per_px = job.max_range_error_per_px;
 }
 
 void LineStage::SetPose(int frame, const Rigid3d& world_from_camera) {
@@ -109,14 +110,15 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
 
   t = std::chrono::steady_clock::now();
   const double angle = record.laser_angle_rad.value_or(0.0);
-  *profile = laser::TriangulateProfile(camera_, laser_,
-                                       laser::CameraFromLaserAtAngle(camera_from_laser_, angle),
-                                       detection->points, record.index);
+  *profile = laser::TriangulateProfile(
+      camera_, laser_, laser::CameraFromLaserAtAngle(camera_from_laser_, angle), detection->points,
+      record.index, job_.max_range_error_per_px);
   if (motion_filter_ && !laser_off && !detection->candidates.empty()) {
     motion_filter_->End(detection->candidates, *profile);
     detection->candidates = {};
   }
   report_->triangulation_failures += profile->failed;
+  report_->grazing_points += profile->grazing;
   report_->seconds_triangulate += Seconds(t);
 }
 

@@ -14,6 +14,7 @@
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/dataset.h"
 #include "uwscan/laser/detector.h"
+#include "uwscan/laser/profile.h"
 
 namespace uwscan {
 
@@ -69,6 +70,10 @@ struct ReconstructJob {
   // lasers without the motion filter only (that filter judges the
   // candidates of whole scan lines).
   int line_window_px = laser::DetectorOptions{}.line_window_px;
+  // Drop line points whose camera ray grazes the light sheet: a pixel of
+  // detection error would move them by more than this fraction of their
+  // range (laser::TriangulateProfile; 0 = keep all).
+  double max_range_error_per_px = laser::kMaxRangeErrorPerPixel;
   // Interleaved datasets (frames.csv laser_on): detect the line in the
   // difference of each laser-on frame and the laser-off frame before it.
   bool detect_on_difference = true;
@@ -148,6 +153,10 @@ struct ReconstructReport {
   // and the frames with such a segment.
   long off_colour_points = 0;
   int frames_with_off_colour = 0;
+  // Line points whose ray grazes the sheet, and the limit as used
+  // (ReconstructJob::max_range_error_per_px).
+  long grazing_points = 0;
+  double max_range_error_per_px = 0.0;
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;

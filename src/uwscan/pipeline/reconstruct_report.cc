@@ -43,6 +43,10 @@ void ReconstructJob::Check() const {
                      ") must be at least --init-refinements (" +
                      std::to_string(self_referenced.init_refinements) + ")");
   }
+  if (!(max_range_error_per_px >= 0.0) || !std::isfinite(max_range_error_per_px)) {
+    throw UsageError("--max-range-error-per-px must be >= 0 (0 = keep all), got " +
+                     std::to_string(max_range_error_per_px));
+  }
   if (passes < 0 || passes > kMaxPasses)
     throw UsageError("--passes must be auto, 1, 2 or 3, got " + std::to_string(passes));
   if (passes > 1 && poses_file)
@@ -185,6 +189,16 @@ std::vector<std::string> ReconstructReport::Warnings() const {
     }
     warnings.push_back(warning);
   }
+  // A few such points are things lit far from the line; many mean the
+  // line is seen far off, or the camera and laser stand too close together.
+  if (grazing_points > 0 && grazing_points >= 0.01 * (points + grazing_points)) {
+    warnings.push_back(fmt::format(
+        "{} line point(s) dropped because their camera ray grazes the light sheet: a pixel of "
+        "detection error would move them by more than {:g} % of their range (the line seen far "
+        "off, or the camera and laser too close together for the range; "
+        "--max-range-error-per-px)",
+        grazing_points, 100.0 * max_range_error_per_px));
+  }
   if (count("bundle_adjustments_stopped_by_time_limit") > 0) {
     warnings.push_back(std::to_string(count("bundle_adjustments_stopped_by_time_limit")) + " of " +
                        std::to_string(count("bundle_adjustments")) +
@@ -235,6 +249,8 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"points_dropped_on_albedo_edges", albedo_edge_points},
           {"off_colour_candidates_ignored", off_colour_points},
           {"frames_with_off_colour_candidates", frames_with_off_colour},
+          {"grazing_points_dropped", grazing_points},
+          {"max_range_error_per_px", max_range_error_per_px},
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"pose_source", pose_source},
           {"pose", pose_details},

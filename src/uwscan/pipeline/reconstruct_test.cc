@@ -437,6 +437,18 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   snowy.pose_source = "external trajectory";
   EXPECT_EQ(snowy.Warnings()[0].find("scale"), std::string::npos);
 
+  // Points whose ray grazes the sheet: a few are stray light, silently
+  // dropped (in report.json); from 1 % of the points on, a warning.
+  ReconstructReport grazing = good;
+  grazing.max_range_error_per_px = 0.05;
+  grazing.grazing_points = grazing.points / 100 - 1;
+  EXPECT_TRUE(grazing.Warnings().empty());
+  EXPECT_EQ(grazing.ToJson()["grazing_points_dropped"], grazing.points / 100 - 1);
+  grazing.grazing_points = grazing.points / 50;
+  ASSERT_EQ(grazing.Warnings().size(), 1u);
+  EXPECT_NE(grazing.Warnings()[0].find("by more than 5 % of their range"), std::string::npos)
+      << grazing.Warnings()[0];
+
   // No frame placed: the profiles are not short, there are none in the cloud.
   ReconstructReport unposed = good;
   unposed.points = 0;

@@ -23,6 +23,18 @@ std::optional<Eigen::Vector3d> LineProjector::Triangulate(const Ray& ray) const 
   return point;
 }
 
+double LineProjector::SineToSheet(const Eigen::Vector3d& direction,
+                                  const Eigen::Vector3d& point_in_camera) const {
+  const Eigen::Matrix3d laser_from_camera =
+      camera_from_laser.rotation.toRotationMatrix().transpose();
+  const Eigen::Vector3d p = laser_from_camera * (point_in_camera - camera_from_laser.translation);
+  const Eigen::Vector3d d = laser_from_camera * direction;
+  // The sheet y z = p1 x^2 (eq. 4.30 times z^2); its normal is the gradient.
+  const Eigen::Vector3d normal(-2.0 * p1 * p.x(), p.z(), p.y());
+  const double norms = normal.norm() * d.norm();
+  return norms > 0.0 ? std::abs(normal.dot(d)) / norms : 0.0;
+}
+
 std::optional<double> LineProjector::SheetResidual(const Eigen::Vector3d& point_in_camera) const {
   const auto q = QuaternionWxyz(camera_from_laser.rotation);
   double residual;

@@ -19,6 +19,11 @@ struct LineProjector {
 
   // Intersects a camera-frame ray with the (bent) light sheet.
   std::optional<Eigen::Vector3d> Triangulate(const Ray& ray) const;
+  // The sine of the angle at which a camera-frame ray direction meets the
+  // sheet at `point_in_camera` (on it): a point's range moves by the
+  // cotangent of that angle times its range per radian the ray turns.
+  double SineToSheet(const Eigen::Vector3d& direction,
+                     const Eigen::Vector3d& point_in_camera) const;
   // Signed residual of eq. 4.30 for a camera-frame point; nullopt behind it.
   std::optional<double> SheetResidual(const Eigen::Vector3d& point_in_camera) const;
   void Check(const std::string& context) const;
