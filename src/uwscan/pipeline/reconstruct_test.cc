@@ -382,6 +382,7 @@ TEST_F(ReconstructTest, CtrlCLeavesNothingBehind) {
     std::string Name() const override { return "raising"; }
     int frames = 0;
   };
+  std::signal(SIGINT, SIG_DFL);  // as from a terminal
   ReconstructJob job;
   job.dataset = root_ / "data";
   job.out = root_ / "interrupted" / "out";

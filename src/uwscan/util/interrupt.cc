@@ -8,10 +8,20 @@ namespace {
 
 volatile std::sig_atomic_t received = 0;
 int depth = 0;
+using Handler = void (*)(int);
+Handler previous_int = SIG_DFL, previous_term = SIG_DFL;
 
 extern "C" void OnSignal(int signal) {
   received = signal;
   std::signal(signal, SIG_DFL);  // a second one stops the process at once
+}
+
+// A signal the process was started with ignored (nohup, a background job
+// of a script) stays ignored.
+Handler Install(int signal) {
+  const Handler previous = std::signal(signal, OnSignal);
+  if (previous == SIG_IGN) std::signal(signal, SIG_IGN);
+  return previous == SIG_ERR ? SIG_DFL : previous;
 }
 
 }  // namespace
@@ -23,14 +33,14 @@ Interrupted::Interrupted(int signal)
 InterruptibleScope::InterruptibleScope() {
   if (depth++ > 0) return;
   received = 0;
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  previous_int = Install(SIGINT);
+  previous_term = Install(SIGTERM);
 }
 
 InterruptibleScope::~InterruptibleScope() {
   if (--depth > 0) return;
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  std::signal(SIGINT, previous_int);
+  std::signal(SIGTERM, previous_term);
 }
 
 void ThrowIfInterrupted() {
