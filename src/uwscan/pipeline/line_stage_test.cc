@@ -122,7 +122,8 @@ TEST(ReconstructSweepFilter, StaticCandidatesOfAPaintedStripeAreIgnored) {
 // the filters' crosstalk, as bright as the line; where the line is faint
 // they took its scan lines and were triangulated metres behind the floor.
 // They have none of the 532 nm line's blue and are ignored, and the report
-// says so; with --keep-off-colour they are back.
+// says so; with --keep-off-colour they are back. (Those whose ray grazes
+// the light sheet, the farthest, go without the colour test too.)
 TEST(ReconstructMarineSnow, FloodLitParticlesAreNotTakenForTheLine) {
   const fs::path root = TempFolder("marine_snow");
   sim::ScenarioOptions options = ScanOptions(480, 360, 40, 311);
@@ -142,12 +143,26 @@ TEST(ReconstructMarineSnow, FloodLitParticlesAreNotTakenForTheLine) {
 
   job.out = root / "kept";
   job.drop_off_colour = false;
+  job.max_range_error_per_px = 0.0;
   const ReconstructReport kept = RunReconstruct(job);
   EXPECT_EQ(kept.off_colour_points, 0);
+  EXPECT_EQ(kept.grazing_points, 0);
   const auto snowy = EvaluateReconstruction(job.dataset, job.out);
   EXPECT_GT(snowy.compensated.point_error_rms_m, 0.5);  // particles metres off the floor
-  std::printf("marine snow: point error %.1f mm with the colour test, %.0f mm without\n",
-              clean.compensated.point_error_rms_m * 1e3, snowy.compensated.point_error_rms_m * 1e3);
+
+  job.out = root / "grazing";
+  job.max_range_error_per_px = laser::kMaxRangeErrorPerPixel;
+  const ReconstructReport grazing = RunReconstruct(job);
+  EXPECT_GT(grazing.grazing_points, 0);
+  EXPECT_EQ(kept.points - grazing.points, grazing.grazing_points);  // only they went
+  const auto nearer = EvaluateReconstruction(job.dataset, job.out);
+  EXPECT_LT(nearer.compensated.point_error_rms_m, 0.1 * snowy.compensated.point_error_rms_m);
+  EXPECT_GT(nearer.compensated.point_error_rms_m, 10 * clean.compensated.point_error_rms_m);
+  std::printf(
+      "marine snow: point error %.1f mm with the colour test, %.0f mm without, %.0f mm without "
+      "but with the grazing rays dropped (%ld points)\n",
+      clean.compensated.point_error_rms_m * 1e3, snowy.compensated.point_error_rms_m * 1e3,
+      nearer.compensated.point_error_rms_m * 1e3, grazing.grazing_points);
   fs::remove_all(root);
 }
 
