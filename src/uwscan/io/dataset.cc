@@ -73,6 +73,14 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
     }
     record.file = fields[2];
     UWS_CHECK(!record.file.empty(), path.string(), ":", number, ": empty file name");
+    UWS_CHECK(std::isfinite(record.timestamp_s) &&
+                  (!record.laser_angle_rad || std::isfinite(*record.laser_angle_rad)),
+              path.string(), ":", number, ": timestamp_s and laser_angle_rad must be finite");
+    // Poses are interpolated and frames placed in time: out of order, a
+    // frame would be tracked against the wrong neighbours.
+    UWS_CHECK(records.empty() || record.timestamp_s > records.back().timestamp_s, path.string(),
+              ":", number, ": timestamps must increase (", fields[1], " after ",
+              fmt::format("{:.17g}", records.back().timestamp_s), ")");
     records.push_back(record);
   }
   return records;

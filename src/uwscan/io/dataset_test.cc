@@ -69,6 +69,15 @@ TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
             std::string::npos);
   EXPECT_NE(message("index,timestamp_s,file,laser_on\n0,0,a.png\n").find("expected 4 fields"),
             std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file\n0,0.5,a.png\n1,0.25,b.png\n")
+                .find("frames.csv:3: timestamps must increase (0.25 after 0.5)"),
+            std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file\n0,0.5,a.png\n1,0.5,b.png\n").find("must increase"),
+            std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file\n0,nan,a.png\n").find("frames.csv:2: timestamp_s"),
+            std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,inf\n").find("finite"),
+            std::string::npos);
 }
 
 }  // namespace
