@@ -38,6 +38,9 @@ std::vector<StampedPose> ReadTum(const std::filesystem::path& path) {
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     UWS_CHECK(std::abs(q.norm() - 1.0) < 1e-6, path.string(), ":", number,
               ": quaternion is not unit length");
+    // Poses are interpolated between their neighbours in time.
+    UWS_CHECK(poses.empty() || v[0] > poses.back().timestamp_s, path.string(), ":", number,
+              ": timestamps must increase (", v[0], " after ", poses.back().timestamp_s, ")");
     poses.push_back({v[0], Rigid3d(q, Eigen::Vector3d(v[1], v[2], v[3]))});
   }
   return poses;

@@ -39,6 +39,10 @@ TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& sou
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     UWS_CHECK(std::abs(q.norm() - 1.0) < 1e-3, source, ":", line_number,
               ": quaternion is not unit (norm ", q.norm(), ")");
+    // Poses are associated with the truth's and interpolated in time.
+    UWS_CHECK(trajectory.poses.empty() || v[0] > trajectory.poses.back().timestamp_s, source, ":",
+              line_number, ": timestamps must increase (", v[0], " after ",
+              trajectory.poses.back().timestamp_s, ")");
     trajectory.poses.push_back({v[0], Rigid3d(q, Eigen::Vector3d(v[1], v[2], v[3]))});
   }
   return trajectory;

@@ -1,7 +1,13 @@
 #include "uwscan/io/tum_trajectory.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "uwscan/io/tum.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -37,6 +43,32 @@ TEST(TumTrajectory, ErrorsNameTheLine) {
   EXPECT_THROW(ParseTumTrajectory("0 1 2 3 0 0 0 2\n", "x"), Error);    // not unit
   EXPECT_THROW(ParseTumTrajectory("0 1 2 3 0 0 0 1 9\n", "x"), Error);  // extra field
   EXPECT_THROW(ReadTumTrajectory("/nonexistent/gt.tum"), Error);
+}
+
+// Out of order (two rows swapped, a repeated time): refused by both
+// readers, with the line, rather than interpolated between wrong neighbours.
+TEST(TumTrajectory, TimestampsMustIncrease) {
+  const std::string swapped = "# t x y z qx qy qz qw\n0.5 0 0 0 0 0 0 1\n0.25 0 0 0 0 0 0 1\n";
+  try {
+    ParseTumTrajectory(swapped, "ins.tum");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ins.tum:3: timestamps must increase (0.25 after 0.5)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(ParseTumTrajectory("1 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n", "x"), Error);
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("uwscan_tum_order_" + std::to_string(::getpid()) + ".tum");
+  std::ofstream(path) << swapped;
+  try {
+    ReadTum(path);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(":3: timestamps must increase"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
 }
 
 }  // namespace
