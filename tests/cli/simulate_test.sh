@@ -177,6 +177,13 @@ expect_status 1 "reconstruct, frame of the wrong size" "$uwscan" reconstruct \
   --dataset "$work/broken" --out "$work/broken.out2" --quiet
 grep -q "frames/000001.png: image is 80x60 but camera" "$work/err" || fail "wrong size: unclear error"
 [ ! -e "$work/broken.out2" ] || fail "wrong size: output folder left behind"
+# A missing image is named before the scan starts.
+rm "$work/broken/frames/000002.png"
+expect_status 1 "reconstruct, missing frame" "$uwscan" reconstruct \
+  --dataset "$work/broken" --out "$work/broken.out3" --quiet
+grep -q "frames/000002.png: no such image (frame 2 of frames.csv)" "$work/err" ||
+  fail "missing frame: unclear error: $(cat "$work/err")"
+[ ! -e "$work/broken.out3" ] || fail "missing frame: output folder left behind"
 
 # Usage errors: exit 2.
 expect_status 2 "unknown scenario" "$uwscan" simulate no-such --out "$work/e1"

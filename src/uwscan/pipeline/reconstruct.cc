@@ -41,6 +41,18 @@ std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
   auto frames = ReadFramesCsv(dataset / "frames.csv");
   UWS_CHECK(!frames.empty(), (dataset / "frames.csv").string(), ": no frames");
   if (max_frames > 0 && static_cast<int>(frames.size()) > max_frames) frames.resize(max_frames);
+  // A missing image stops the scan: say so before, not minutes into it.
+  size_t missing = 0;
+  const FrameRecord* first_missing = nullptr;
+  for (const FrameRecord& frame : frames) {
+    std::error_code error;
+    if (fs::is_regular_file(dataset / frame.file, error)) continue;
+    if (!first_missing) first_missing = &frame;
+    ++missing;
+  }
+  UWS_CHECK(missing == 0, (dataset / first_missing->file).string(), ": no such image (frame ",
+            first_missing->index, " of frames.csv", missing > 1 ? ", and " : "",
+            missing > 1 ? std::to_string(missing - 1) + " more" : std::string(), ")");
   return frames;
 }
 
