@@ -81,6 +81,10 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
     UWS_CHECK(records.empty() || record.timestamp_s > records.back().timestamp_s, path.string(),
               ":", number, ": timestamps must increase (", fields[1], " after ",
               fmt::format("{:.17g}", records.back().timestamp_s), ")");
+    // An index names a frame (of the cloud, of every pose): one frame each.
+    UWS_CHECK(records.empty() || record.index > records.back().index, path.string(), ":", number,
+              ": frame indices must increase (", record.index, " after ", records.back().index,
+              ")");
     records.push_back(record);
   }
   return records;

@@ -74,6 +74,9 @@ TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
             std::string::npos);
   EXPECT_NE(message("index,timestamp_s,file\n0,0.5,a.png\n1,0.5,b.png\n").find("must increase"),
             std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file\n7,0.5,a.png\n7,0.6,b.png\n")
+                .find("frames.csv:3: frame indices must increase (7 after 7)"),
+            std::string::npos);
   EXPECT_NE(message("index,timestamp_s,file\n0,nan,a.png\n").find("frames.csv:2: timestamp_s"),
             std::string::npos);
   EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,inf\n").find("finite"),
