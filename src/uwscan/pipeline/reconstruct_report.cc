@@ -131,10 +131,14 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " scan lines (the line fades into the water or leaves the scene)");
   }
   if (frames_without_pose > 0) {
+    // An external trajectory has none outside its times (--poses).
+    const bool tracked = pose_source.rfind("self-referenced", 0) == 0;
+    const std::string why = tracked               ? "tracking not started or lost"
+                            : pose_source.empty() ? "the poses have none at their times"
+                                                  : pose_source + " has none at their times";
     warnings.push_back(std::to_string(frames_without_pose) + " frame(s) (" +
                        percent(frames_without_pose, frames) +
-                       " %) got no pose and are left out of the cloud (tracking not started or "
-                       "lost)");
+                       " %) got no pose and are left out of the cloud (" + why + ")");
   }
   for (const auto& camera : other_cameras) {
     if (camera.frames_without_pose > 0 || camera.frames_with_line < 0.9 * camera.frames) {

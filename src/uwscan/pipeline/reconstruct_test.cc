@@ -424,6 +424,17 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   const nlohmann::json json = turbid.ToJson();
   EXPECT_EQ(json["warnings"].size(), 6u);
 
+  // Frames without a pose: lost by the odometry, or outside an external
+  // trajectory's times.
+  ReconstructReport partial = good;
+  partial.frames_without_pose = 30;
+  partial.pose_source = "self-referenced visual odometry";
+  ASSERT_EQ(partial.Warnings().size(), 1u);
+  EXPECT_NE(partial.Warnings()[0].find("tracking not started or lost"), std::string::npos);
+  partial.pose_source = "ins.tum";
+  EXPECT_NE(partial.Warnings()[0].find("(ins.tum has none at their times)"), std::string::npos)
+      << partial.Warnings()[0];
+
   // Marine snow: the particles the colour test ignored are named, and with
   // the self-referenced poses in many frames what they do to the odometry.
   ReconstructReport snowy = good;
