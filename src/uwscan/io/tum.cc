@@ -2,10 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <fstream>
 #include <sstream>
 
+#include "uwscan/io/tum_trajectory.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -20,30 +20,10 @@ std::string TumLine(const StampedPose& pose) {
 std::vector<StampedPose> ReadTum(const std::filesystem::path& path) {
   std::ifstream in(path);
   UWS_CHECK(in.good(), path.string(), ": cannot open for reading");
-  std::vector<StampedPose> poses;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    double v[8];
-    for (double& value : v) {
-      UWS_CHECK(static_cast<bool>(fields >> value), path.string(), ":", number,
-                ": expected 8 numbers 't x y z qx qy qz qw'");
-    }
-    std::string rest;
-    UWS_CHECK(!(fields >> rest), path.string(), ":", number, ": more than 8 values");
-    const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    UWS_CHECK(std::abs(q.norm() - 1.0) < 1e-6, path.string(), ":", number,
-              ": quaternion is not unit length");
-    // Poses are interpolated between their neighbours in time.
-    UWS_CHECK(poses.empty() || v[0] > poses.back().timestamp_s, path.string(), ":", number,
-              ": timestamps must increase (", v[0], " after ", poses.back().timestamp_s, ")");
-    poses.push_back({v[0], Rigid3d(q, Eigen::Vector3d(v[1], v[2], v[3]))});
-  }
-  return poses;
+  std::stringstream text;
+  text << in.rdbuf();
+  // Gap comments are comments here; quaternions unit to 1e-6.
+  return ParseTumTrajectory(text.str(), path.string(), 1e-6).poses;
 }
 
 void WriteTum(const std::filesystem::path& path, const std::vector<StampedPose>& poses) {

@@ -9,7 +9,8 @@
 
 namespace uwscan {
 
-TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& source) {
+TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& source,
+                                 double unit_tolerance) {
   TumTrajectory trajectory;
   std::istringstream in(text);
   std::string line;
@@ -37,7 +38,7 @@ TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& sou
     std::string rest;
     UWS_CHECK(!(fields >> rest), source, ":", line_number, ": more than 8 fields");
     const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    UWS_CHECK(std::abs(q.norm() - 1.0) < 1e-3, source, ":", line_number,
+    UWS_CHECK(std::abs(q.norm() - 1.0) < unit_tolerance, source, ":", line_number,
               ": quaternion is not unit (norm ", q.norm(), ")");
     // Poses are associated with the truth's and interpolated in time.
     UWS_CHECK(trajectory.poses.empty() || v[0] > trajectory.poses.back().timestamp_s, source, ":",
