@@ -114,7 +114,7 @@ TrackAccuracyResult RunTrackAccuracyBenchmark(const TrackAccuracyOptions& option
                          ? std::min<int>(options.frames, static_cast<int>(dataset.frames.size()))
                          : static_cast<int>(dataset.frames.size());
   for (int i = 0; i < frames; ++i) {
-    const VoFrameEntry& entry = dataset.frames[static_cast<size_t>(i)];
+    const FrameRecord& entry = dataset.frames[static_cast<size_t>(i)];
     const cv::Mat raw = ReadFrameImage(dataset, entry);
     UWS_CHECK(!raw.empty() && raw.cols == camera.width && raw.rows == camera.height,
               (options.dataset / entry.file).string(), ": unreadable or not ", camera.width, "x",

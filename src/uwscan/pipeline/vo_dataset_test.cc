@@ -4,40 +4,9 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
-
-TEST(FramesCsv, ParsesWithAndWithoutLaserAngles) {
-  const auto frames = ParseFramesCsv(
-      "index,timestamp_s,file\n0,0.0,frames/000000.png\n1,0.5,frames/000001.png\n", "f.csv");
-  ASSERT_EQ(frames.size(), 2u);
-  EXPECT_EQ(frames[1].file, "frames/000001.png");
-  EXPECT_DOUBLE_EQ(frames[1].timestamp_s, 0.5);
-  EXPECT_FALSE(frames[0].laser_angle_rad.has_value());
-  const auto angles =
-      ParseFramesCsv("index,timestamp_s,file,laser_angle_rad\n0,1.0,a.png,0.25\n", "f.csv");
-  ASSERT_EQ(angles.size(), 1u);
-  EXPECT_DOUBLE_EQ(*angles[0].laser_angle_rad, 0.25);
-}
-
-TEST(FramesCsv, ErrorsNameFileAndLine) {
-  auto message = [](const std::string& text) {
-    try {
-      ParseFramesCsv(text, "f.csv");
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(message("idx,t,file\n").find("f.csv:1"), std::string::npos);
-  EXPECT_NE(message("index,timestamp_s,file\n0,0,a.png\n1,x,b.png\n").find("f.csv:3"),
-            std::string::npos);
-  EXPECT_NE(message("index,timestamp_s,file\n0,1,a.png\n1,0.5,b.png\n").find("increase"),
-            std::string::npos);
-  EXPECT_NE(message("index,timestamp_s,file\n0,1\n").find("expected 3 fields"), std::string::npos);
-}
 
 TEST(TrackingImage, TakesTheGreenOfBayerAndColour) {
   // RGGB mosaic of a uniform colour (R 200, G 100, B 50): green is 100.

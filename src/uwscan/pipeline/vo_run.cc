@@ -155,7 +155,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     if (summary.warnings.size() < 20) summary.warnings.push_back(message);
   };
   for (int i = 0; i < total; ++i) {
-    const VoFrameEntry& entry = dataset.frames[size_t(i)];
+    const FrameRecord& entry = dataset.frames[size_t(i)];
     const cv::Mat raw = ReadFrameImage(dataset, entry);
     if (raw.empty()) {
       ++summary.unreadable;

@@ -104,7 +104,7 @@ SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
   rig.cameras.push_back(camera);
   WriteRigYaml(dir / "rig.yaml", rig);
 
-  std::vector<VoFrameEntry> frames;
+  FramesCsvWriter frames(dir / "frames.csv", /*with_laser_angle=*/false);
   TumTrajectory truth;
   for (int i = 0; i < options.frames; ++i) {
     render.noise_seed = options.seed * 100003u + unsigned(i);
@@ -113,10 +113,10 @@ SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
     std::snprintf(name, sizeof(name), "frames/%06d.png", i);
     UWS_CHECK(cv::imwrite((dir / name).string(), image), (dir / name).string(), ": cannot write");
     const double t = i / options.frame_rate_hz;
-    frames.push_back({i, t, name, std::nullopt});
+    frames.Add({i, t, name, std::nullopt, std::nullopt});
     truth.poses.push_back({t, poses[size_t(i)]});
   }
-  WriteFramesCsv(dir / "frames.csv", frames);
+  frames.Commit();
   WriteTumTrajectory(dir / "groundtruth.tum", truth);
   SyntheticVoSummary summary;
   summary.frames = options.frames;
