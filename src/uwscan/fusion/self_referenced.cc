@@ -278,6 +278,11 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
       Held& h = held_[i];
       const vo::FrameResult result =
           odometry_->ProcessFrame(h.input.image, h.mask, h.input.timestamp_s);
+      // The start's adjustments count too: one stopped by its time limit
+      // here moves the start, and so the whole trajectory.
+      init_bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
+      bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
+      bundle_adjustments_time_limited_ += result.bundle_adjustment.time_limited;
       if (!result.world_from_camera) break;
       const Held& before = held_[last_tracked];
       const std::vector<StampedPose> ends = {
@@ -297,6 +302,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     for (size_t i = 0; i < held_.size(); ++i)
       refined->AddProfile(PoseGuess(i, origin), held_[i].profile);
     if (options_.surface.extrapolate_plane && !refined->HasDominantPlane()) {
+      ++init_refused_;
       odometry_.reset();
       surface_.reset();
       init_surface_.reset();  // rebuilt from the held frames at the next attempt
@@ -568,6 +574,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"reinitialisations", reinitialisations_},
           {"frames_without_pose_at_start", dropped_},
           {"first_frame_with_pose", init_frame_},
+          {"start_attempts_refused", init_refused_},
           {"start_refinements", init_refinements_done_},
           {"start_settled",
            init_refinements_done_ > 1 ? nlohmann::json(init_settled_) : nlohmann::json()},
@@ -579,6 +586,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"tracks_reacquired", tracks_reacquired_},
           {"line_range_constraints", line_ranges_},
           {"bundle_adjustments", bundle_adjustments_},
+          {"start_bundle_adjustments", init_bundle_adjustments_},
           {"bundle_adjustments_stopped_by_time_limit", bundle_adjustments_time_limited_},
           {"surface_points", surface_ ? surface_->size() : 0}};
 }

@@ -283,9 +283,13 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int init_refinements_done_ = 0;
   bool init_settled_ = false;
   double init_last_move_m_ = 0.0, init_last_turn_deg_ = 0.0;
+  // Start attempts whose held frames, placed with their tracked poses, no
+  // longer spanned the scene's plane (their surface had one before).
+  int init_refused_ = 0;
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
   long line_ranges_ = 0;  // range constraints where map points met the laser line
-  int bundle_adjustments_ = 0, bundle_adjustments_time_limited_ = 0;
+  // All windowed BAs, and those of the start's attempts among them.
+  int bundle_adjustments_ = 0, bundle_adjustments_time_limited_ = 0, init_bundle_adjustments_ = 0;
 };
 
 }  // namespace uwscan::fusion

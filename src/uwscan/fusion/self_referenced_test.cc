@@ -214,6 +214,23 @@ TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
   EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
     return w.find("had not settled after 3 refinements") != std::string::npos;
   }));
+
+  // Windowed BAs stopped by their time limit are counted in the start's
+  // attempts too (they move the start, and so the whole trajectory): with a
+  // keyframe every 3 frames the held frames' tracking has some, and with a
+  // limit no BA meets, every one is counted as stopped.
+  ReconstructJob limited_job;
+  limited_job.dataset = job.dataset;
+  limited_job.out = root / "time_limited";
+  limited_job.quiet = true;
+  limited_job.self_referenced.odometry.max_frames_between_keyframes = 3;
+  limited_job.self_referenced.odometry.ba.max_solver_time_s = 1e-9;
+  const nlohmann::json limited = RunReconstruct(limited_job).pose_details;
+  EXPECT_GT(limited["start_bundle_adjustments"].get<int>(), 0);
+  EXPECT_GT(limited["bundle_adjustments"].get<int>(),
+            limited["start_bundle_adjustments"].get<int>());
+  EXPECT_EQ(limited["bundle_adjustments_stopped_by_time_limit"].get<int>(),
+            limited["bundle_adjustments"].get<int>());
   fs::remove_all(root);
 }
 

@@ -130,15 +130,38 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " points per frame of " + std::to_string(scan_lines) +
                        " scan lines (the line fades into the water or leaves the scene)");
   }
-  if (frames_without_pose > 0) {
+  const auto count = [&](const char* key) {
+    return pose_details.is_object() && pose_details.contains(key) &&
+                   pose_details[key].is_number_integer()
+               ? pose_details[key].get<int>()
+               : 0;
+  };
+  const auto without_pose = [&](int n, const std::string& when, const std::string& why) {
+    warnings.push_back(std::to_string(n) + " frame(s) (" + percent(n, frames) + " %) got no pose" +
+                       when + " and are left out of the cloud (" + why + ")");
+  };
+  const bool tracked = pose_source.rfind("self-referenced", 0) == 0;
+  if (frames_without_pose > 0 && !tracked) {
     // An external trajectory has none outside its times (--poses).
-    const bool tracked = pose_source.rfind("self-referenced", 0) == 0;
-    const std::string why = tracked               ? "tracking not started or lost"
-                            : pose_source.empty() ? "the poses have none at their times"
-                                                  : pose_source + " has none at their times";
-    warnings.push_back(std::to_string(frames_without_pose) + " frame(s) (" +
-                       percent(frames_without_pose, frames) +
-                       " %) got no pose and are left out of the cloud (" + why + ")");
+    without_pose(frames_without_pose, "",
+                 pose_source.empty() ? "the poses have none at their times"
+                                     : pose_source + " has none at their times");
+  } else if (frames_without_pose > 0) {
+    // Held while the odometry waited to start (or to start again), or lost.
+    const int waiting = std::min(count("frames_without_pose_at_start"), frames_without_pose);
+    if (waiting > 0) {
+      std::string why =
+          "it starts once the laser's profiles span the scene's plane across the line and "
+          "enough features are tracked";
+      if (const int refused = count("start_attempts_refused"); refused > 0) {
+        why += "; " + std::to_string(refused) +
+               " start attempt(s) found the held frames' profiles too narrow once tracked: the "
+               "laser sweeps slowly, or the platform moved with the sweep";
+      }
+      without_pose(waiting, " while the odometry waited to start", why);
+    }
+    if (frames_without_pose > waiting)
+      without_pose(frames_without_pose - waiting, "", "tracking lost");
   }
   for (const auto& camera : other_cameras) {
     if (camera.frames_without_pose > 0 || camera.frames_with_line < 0.9 * camera.frames) {
@@ -148,12 +171,6 @@ std::vector<std::string> ReconstructReport::Warnings() const {
           " outside the main camera's trajectory (left out)");
     }
   }
-  const auto count = [&](const char* key) {
-    return pose_details.is_object() && pose_details.contains(key) &&
-                   pose_details[key].is_number_integer()
-               ? pose_details[key].get<int>()
-               : 0;
-  };
   if (count("lost") > 0) {
     warnings.push_back("visual tracking was lost " + std::to_string(count("lost")) +
                        " time(s) and restarted (too few features: turbid water, no texture, "
