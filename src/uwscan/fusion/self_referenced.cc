@@ -279,7 +279,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
       const vo::FrameResult result =
           odometry_->ProcessFrame(h.input.image, h.mask, h.input.timestamp_s);
       // The start's adjustments count too: one stopped by its time limit
-      // here moves the start, and so the whole trajectory.
+      // here can move the start, and so the whole trajectory.
       init_bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
       bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
       bundle_adjustments_time_limited_ += result.bundle_adjustment.time_limited;

@@ -216,7 +216,7 @@ TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
   }));
 
   // Windowed BAs stopped by their time limit are counted in the start's
-  // attempts too (they move the start, and so the whole trajectory): with a
+  // attempts too (they can move the start, and so the whole trajectory): with a
   // keyframe every 3 frames the held frames' tracking has some, and with a
   // limit no BA meets, every one is counted as stopped.
   ReconstructJob limited_job;

@@ -4,7 +4,6 @@
 
 #include <opencv2/imgproc.hpp>
 
-
 namespace uwscan {
 namespace {
 
