@@ -278,11 +278,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
       Held& h = held_[i];
       const vo::FrameResult result =
           odometry_->ProcessFrame(h.input.image, h.mask, h.input.timestamp_s);
-      // The start's adjustments count too: one stopped by its time limit
-      // here can move the start, and so the whole trajectory.
-      init_bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
-      bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
-      bundle_adjustments_time_limited_ += result.bundle_adjustment.time_limited;
+      CountBundleAdjustment(result, /*at_start=*/true);
       if (!result.world_from_camera) break;
       const Held& before = held_[last_tracked];
       const std::vector<StampedPose> ends = {
@@ -483,6 +479,14 @@ void SelfReferencedPoseProvider::Restart() {
   guess_failed_ = false;
 }
 
+void SelfReferencedPoseProvider::CountBundleAdjustment(const vo::FrameResult& result,
+                                                       bool at_start) {
+  const bool ran = result.bundle_adjustment.keyframes > 0;
+  bundle_adjustments_ += ran;
+  init_bundle_adjustments_ += at_start && ran;
+  bundle_adjustments_time_limited_ += result.bundle_adjustment.time_limited;
+}
+
 std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
   vo::Odometry::LineRanges line_ranges;
   if (options_.use_line_ranges && !frame.profile.points.empty()) {
@@ -495,8 +499,7 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
                                                          frame.input.timestamp_s, {}, line_ranges);
   if (result.keyframe) ++keyframes_;
   line_ranges_ += result.line_ranges;
-  bundle_adjustments_ += result.bundle_adjustment.keyframes > 0;
-  bundle_adjustments_time_limited_ += result.bundle_adjustment.time_limited;
+  CountBundleAdjustment(result, /*at_start=*/false);
   tracks_cut_by_line_ += result.tracking.lost_mask;
   tracks_reacquired_ += result.tracking.reacquired;
   if (!result.world_from_camera) {

@@ -228,6 +228,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // one, else `origin` (the first held frame's pose).
   Rigid3d PoseGuess(size_t i, const Rigid3d& origin) const;
   std::optional<PoseUpdate> Track(const Held& frame);
+  // Counts the frame's windowed BA, if it ran one (`at_start`: in a start
+  // attempt, whose adjustments can move the start and so the trajectory).
+  void CountBundleAdjustment(const vo::FrameResult& result, bool at_start);
   // The tracked image and mask of a frame (the input's image is replaced).
   Held Prepare(const FrameInput& frame, const cv::Mat& line_mask) const;
   // Tracks `frame`, then places the skipped frames before it between the
