@@ -1,31 +1,43 @@
 // Row-parallel loops on a few threads. Work is split by rows only, and
 // every row's random stream is seeded from its index, so results do not
-// depend on the number of threads.
+// depend on the number of threads or on which thread renders a row.
 #pragma once
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
 #include <functional>
 #include <thread>
 #include <vector>
 
 namespace uwscan::sim {
 
-// Runs fn(y) for every row on `threads` threads (interleaved blocks of rows).
+// Runs fn(y) for every row on `threads` threads. Each thread takes the next
+// free block of rows until none is left, so a thread slowed by costly rows
+// (a laser line's sub-rays) or by the machine does not hold the others up.
 inline void ParallelRows(int rows, int threads, const std::function<void(int)>& fn) {
   constexpr int kBlock = 8;
   if (threads <= 1 || rows < 2 * kBlock) {
     for (int y = 0; y < rows; ++y) fn(y);
     return;
   }
+  std::atomic<int> next{0};
+  auto work = [&] {
+    for (int start = next.fetch_add(kBlock); start < rows; start = next.fetch_add(kBlock)) {
+      for (int y = start; y < std::min(rows, start + kBlock); ++y) fn(y);
+    }
+  };
   std::vector<std::thread> workers;
-  for (int t = 0; t < threads; ++t) {
-    workers.emplace_back([&, t] {
-      for (int start = t * kBlock; start < rows; start += threads * kBlock) {
-        for (int y = start; y < std::min(rows, start + kBlock); ++y) fn(y);
-      }
-    });
+  for (int t = 1; t < threads; ++t) workers.emplace_back(work);
+  std::exception_ptr error;
+  try {
+    work();  // the calling thread takes blocks too
+  } catch (...) {
+    error = std::current_exception();
+    next = rows;  // the others stop at their next block
   }
   for (auto& worker : workers) worker.join();
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace uwscan::sim

@@ -198,6 +198,9 @@ TEST(RendererTest, DeterministicForASeedAndIndependentOfThreads) {
   scenario.config.render.threads = 1;
   const cv::Mat b = Renderer(scenario.config).Render(state).image;
   EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+  scenario.config.render.threads = 3;  // rows taken by whichever thread is free
+  const cv::Mat c = Renderer(scenario.config).Render(state).image;
+  EXPECT_EQ(cv::norm(a, c, cv::NORM_INF), 0.0);
   FrameState other = state;
   other.noise_seed += 1;
   EXPECT_GT(cv::norm(a, Renderer(scenario.config).Render(other).image, cv::NORM_L1), 0.0);

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <future>
 
 #include "uwscan/io/dataset.h"
 #include "uwscan/io/image.h"
@@ -78,11 +79,18 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
   TumWriter truth(folder / "groundtruth.tum");
   LaserTruthWriter laser_truth(folder / "laser_gt.csv");
   const int first_index = static_cast<int>(camera) * scenario.frames;
+  // Each image is compressed and written while the next one renders (a
+  // tenth of a frame's time on one core); a write error comes out at the
+  // next frame, or at the end.
+  std::future<void> writing;
   for (int i = 0; i < scenario.frames; ++i) {
     const FrameState state = scenario.FrameAt(trajectory, i, camera);
-    const RenderedFrame frame = renderer.Render(state);
+    RenderedFrame frame = renderer.Render(state);
     const std::string file = FrameFileName(i);
-    WritePng(folder / file, frame.image);
+    if (writing.valid()) writing.get();
+    writing = std::async(
+        std::launch::async,
+        [path = folder / file, image = std::move(frame.image)] { WritePng(path, image); });
     std::optional<double> angle;
     if (with_angle) angle = state.laser_angles_rad.front();
     const int index = first_index + i;
@@ -98,6 +106,7 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
     progress->Update(++*done);
     ThrowIfInterrupted();
   }
+  if (writing.valid()) writing.get();
   frames.Commit();
   truth.Commit();
   laser_truth.Commit();

@@ -70,6 +70,9 @@ constexpr double kOctaveAmplitude[12] = {1.0,      0.7,       0.49,       0.343,
                                          0.2401,   0.16807,   0.117649,   0.0823543,
                                          0.057648, 0.0403536, 0.02824752, 0.019773264};
 
+// 2^k, exact (std::ldexp on the per-pixel path cost a sixth of the texture's time).
+constexpr double kPowerOfTwo[12] = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048};
+
 }  // namespace
 
 const char* TextureName(TextureType type) {
@@ -129,7 +132,7 @@ Eigen::Vector3d Texture::BaseAlbedo(double s, double t, double footprint_m) cons
       const bool cached = octaves_.size() == static_cast<size_t>(octaves) &&
                           prepared_seed_ == seed && prepared_scale_m_ == scale_m;
       for (int k = 0; k < octaves; ++k) {
-        const double cells_per_footprint = footprint_m * std::ldexp(1.0, k) / scale_m;
+        const double cells_per_footprint = footprint_m * kPowerOfTwo[k] / scale_m;
         if (cells_per_footprint >= 2.0) break;  // this and all finer octaves faded to their mean
         Octave made;
         if (!cached) made = MakeOctave(k);
