@@ -92,6 +92,9 @@ void RegisterBenchCommands(CLI::App& app) {
       ->capture_default_str();
   pipeline->add_option("--line-window", pipeline_options->line_window_px,
                        "as reconstruct --line-window");
+  pipeline->add_flag("!--no-preread", pipeline_options->preread,
+                     "time the images' reading from wherever they are (disk or page cache) "
+                     "instead of reading them once before the timed run");
   pipeline->callback([pipeline_options, pipeline_dataset, pipeline_track_every] {
     pipeline_options->dataset = *pipeline_dataset;
     pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);

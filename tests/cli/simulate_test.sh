@@ -46,9 +46,13 @@ grep -q "none: no such dataset folder" "$work/err" || fail "bench tracks: unclea
 # kept busy: more than none, no more than the machine has); a missing
 # dataset is named in the error.
 expect_status 0 "bench pipeline" "$uwscan" bench pipeline --frames 20 --width 320 --height 240
-for key in real_time_factor peak_memory_mb cpu_s cores_busy load_average_before; do
+for key in real_time_factor peak_memory_mb cpu_s cores_busy load_average_before \
+  images_in_page_cache_before images_mb images_read_mb_per_s images_mb_per_s_for_real_time; do
   grep -q "\"$key\": [0-9]" "$work/out" || fail "bench pipeline: no $key"
 done
+grep -q '"images_read_before_timing": true' "$work/out" || fail "bench pipeline: images not read first"
+# The images just simulated are all in the page cache.
+grep -q '"images_in_page_cache_before": 1\.0' "$work/out" || fail "bench pipeline: page cache share"
 awk -v cores="$(nproc)" '/"cores_busy":/ { sub(",", "", $2); ok = $2 > 0 && $2 <= cores + 0.5 }
   END { exit !ok }' "$work/out" || fail "bench pipeline: cores_busy out of range"
 expect_status 1 "bench pipeline, no dataset" "$uwscan" bench pipeline --dataset "$work/none"

@@ -17,6 +17,9 @@ struct PipelineBenchmarkOptions {
   std::optional<bool> async_bundle_adjustment;  // as reconstruct --async-ba; unset: auto
   int track_every = 0;                          // as reconstruct --track-every (0: auto)
   std::optional<int> line_window_px;            // as reconstruct --line-window; unset: its default
+  // Read the frame images once before the timed run, so that it times the
+  // processing, not the disk (the read is timed apart); false: as they are.
+  bool preread = true;
   void Check() const;
 };
 
