@@ -387,6 +387,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     ThrowIfInterrupted();
   }
   place(provider->Finish());
+  report.seconds_waiting_for_images += reader.seconds_waiting();
   report.seconds_io += reader.seconds_waiting();
   if (self_referenced && measured) {
     measured->surface = placed_surface ? placed_surface : self_referenced->MeasuredSurface();
@@ -437,6 +438,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       progress.Update(++frames_done);
       ThrowIfInterrupted();
     }
+    report.seconds_waiting_for_images += other_reader.seconds_waiting();
     report.seconds_io += other_reader.seconds_waiting();
     other_trajectory.Commit();
     report.other_cameras.push_back(camera_report);

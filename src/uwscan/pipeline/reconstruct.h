@@ -161,6 +161,10 @@ struct ReconstructReport {
   int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
+  // Of seconds_io: waiting for the reading thread's next image (read,
+  // decoded, its line found ahead); a disk slower than the processing
+  // shows here.
+  double seconds_waiting_for_images = 0.0;
   // As used (ReconstructJob::line_window_px; 0: whole scan lines), and the
   // frames with a point off the windows' line, detected again whole.
   int line_window_px = 0;

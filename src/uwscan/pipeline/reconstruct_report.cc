@@ -282,6 +282,7 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"triangulation", seconds_triangulate},
             {"pose_estimation", seconds_pose},
             {"io", seconds_io},
+            {"waiting_for_images", seconds_waiting_for_images},
             {"earlier_passes", seconds_earlier_passes}}},
           {"passes", passes},
           {"track_every", track_every},

@@ -52,6 +52,10 @@ TEST_F(ReconstructTest, TruePosesGiveMillimetreCloud) {
   EXPECT_EQ(report.frames, 24);
   EXPECT_EQ(report.frames_without_pose, 0);
   EXPECT_GT(report.points, 24 * 120);
+  // The wait for the reading thread is part of the I/O time, which is part of the whole.
+  EXPECT_GE(report.seconds_waiting_for_images, 0.0);
+  EXPECT_LE(report.seconds_waiting_for_images, report.seconds_io);
+  EXPECT_LE(report.seconds_io, report.seconds);
   for (const char* file :
        {"cloud.ply", "cloud_uncompensated.ply", "trajectory.tum", "report.json"}) {
     EXPECT_TRUE(fs::exists(job.out / file)) << file;
