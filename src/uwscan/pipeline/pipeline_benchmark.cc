@@ -70,8 +70,8 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
     simulate_seconds = sim::SimulateScenario("tank-target", scenario, job.dataset).seconds;
   }
   // A dataset on a disk slower than its camera would time the disk: on a
-  // 2-core VM of 2026-11-27 a cold read of a full tank scan (1.1 GB of PNG)
-  // took 12.9 s of its 13.9 s. Its images are read first, timed apart.
+  // 2-core VM of 2026-11-27 a cold read of a full tank scan's 970 MB of PNG
+  // took 12.9-13.1 s of its 13.9 s. Its images are read first, timed apart.
   const std::vector<fs::path> images = FrameImages(job.dataset);
   const double cached_before = PageCacheShare(images);
   std::optional<FilesRead> preread;
