@@ -4,7 +4,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config python3
-  libeigen3-dev libceres-dev libopencv-dev opencv-doc libopengv-dev
+  libeigen3-dev libceres-dev libgoogle-glog-dev libopencv-dev opencv-doc libopengv-dev
   libdeflate-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )

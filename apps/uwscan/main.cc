@@ -1,6 +1,8 @@
 // uwscan: underwater optical 3D scanning. Exit status: 0 success, 2 usage
 // error, 1 bad input or runtime failure ("uwscan: error: ..." on stderr),
 // 130 (143) interrupted by Ctrl-C (SIGTERM).
+#include <glog/logging.h>
+
 #include <iostream>
 
 #include "commands.h"
@@ -8,6 +10,12 @@
 #include "uwscan/util/interrupt.h"
 
 int main(int argc, char** argv) {
+  // Ceres logs a solver's routine recoveries (a Levenberg-Marquardt step the
+  // linear solver refused, retried with more damping) as glog warnings:
+  // the user sees its errors only, on stderr, and no log files.
+  FLAGS_logtostderr = true;
+  FLAGS_minloglevel = google::GLOG_ERROR;
+  google::InitGoogleLogging(argv[0]);
   CLI::App app{"uwscan: underwater optical 3D scanning with flat-port cameras and line lasers"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "uwscan 0.1.0");
