@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <optional>
 
-#include "uwscan/io/dataset.h"
 #include "uwscan/io/page_cache.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/sim/simulate.h"
@@ -22,23 +21,6 @@ namespace {
 double CpuSeconds(const rusage& usage) {
   return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
          1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
-
-// The frame images reconstruct reads: those of DATASET/frames.csv and of
-// each further camera's DATASET/NAME/frames.csv.
-std::vector<fs::path> FrameImages(const fs::path& dataset) {
-  UWS_CHECK(fs::is_directory(dataset), dataset.string(), ": no such dataset folder");
-  std::vector<fs::path> folders = {dataset};
-  for (const auto& entry : fs::directory_iterator(dataset)) {
-    if (entry.is_directory() && fs::exists(entry.path() / "frames.csv"))
-      folders.push_back(entry.path());
-  }
-  std::vector<fs::path> files;
-  for (const fs::path& folder : folders) {
-    for (const FrameRecord& frame : ReadFramesCsv(folder / "frames.csv"))
-      files.push_back(folder / frame.file);
-  }
-  return files;
 }
 
 }  // namespace
@@ -72,7 +54,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   // A dataset on a disk slower than its camera would time the disk: on a
   // 2-core VM of 2026-11-27 a cold read of a full tank scan's 970 MB of PNG
   // took 12.9-13.1 s of its 13.9 s. Its images are read first, timed apart.
-  const std::vector<fs::path> images = FrameImages(job.dataset);
+  const std::vector<fs::path> images = ReconstructImages(job);
   const double cached_before = PageCacheShare(images);
   std::optional<FilesRead> preread;
   if (options.preread) preread = ReadFiles(images);

@@ -461,6 +461,20 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
 
 }  // namespace
 
+std::vector<fs::path> ReconstructImages(const ReconstructJob& job) {
+  UWS_CHECK(fs::is_directory(job.dataset), job.dataset.string(), ": no such dataset folder");
+  std::vector<fs::path> files;
+  for (const FrameRecord& frame : ReadFrames(job.dataset, job.max_frames))
+    files.push_back(job.dataset / frame.file);
+  if (job.other_cameras && job.camera_name.empty()) {
+    const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
+    for (const OtherCamera& other : FindOtherCameras(job.dataset, rig, 0, job.max_frames)) {
+      for (const FrameRecord& frame : other.frames) files.push_back(other.folder / frame.file);
+    }
+  }
+  return files;
+}
+
 ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();

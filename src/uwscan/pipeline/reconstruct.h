@@ -200,6 +200,11 @@ int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);
 bool ResolveAsyncBundleAdjustment(std::optional<bool> async,
                                   const std::vector<FrameRecord>& frames);
 
+// The image files RunReconstruct reads for `job`: the main camera's, then
+// those of the further cameras it uses (after the same checks: a missing
+// folder, file or image is named).
+std::vector<std::filesystem::path> ReconstructImages(const ReconstructJob& job);
+
 // Uses `provider` if given, else the job's --poses file, else the
 // self-referenced visual odometry. Writes OUT/cloud.ply,
 // OUT/cloud_uncompensated.ply, OUT/trajectory.tum and OUT/report.json.
