@@ -51,6 +51,33 @@ for frame, centre in ((0, 60.25), (2, 100.5)):
     assert rms < 0.15, (frame, rms)
 PY
 [ -f "$dir/overlay/000.png" ] || fail "overlay image"
+! grep -q "full scale" "$dir/err" || fail "no clipping on these frames: $(cat "$dir/err")"
+
+# A scene clipped on a quarter of the image (a mono camera at a colour
+# camera's exposure): the line is still found beside it, and a warning says why
+# it may be lost there.
+mkdir -p "$dir/clipped"
+python3 - "$dir/clipped" <<'PY' || fail "write clipped frames"
+import math, sys
+W, H = 160, 120
+for k in range(3):
+    rows = []
+    for v in range(H):
+        row = bytearray()
+        for u in range(W):
+            x = 255 if u < 40 else 60 + 150 * math.exp(-0.5 * ((u - 100 - k) / 1.5) ** 2)
+            row.append(min(255, int(round(x))))
+        rows.append(bytes(row))
+    with open(f"{sys.argv[1]}/{k:03d}.pgm", "wb") as f:
+        f.write(b"P5\n%d %d\n255\n" % (W, H) + b"".join(rows))
+PY
+"$bin" laser detect --images "$dir/clipped" --out "$dir/clipped.csv" 2>"$dir/err" \
+  || fail "detect on clipped frames: $(cat "$dir/err")"
+grep -q "warning: in 3 frame(s) the scene itself is at full scale" "$dir/err" \
+  || fail "clipping warning: $(cat "$dir/err")"
+# 40 of the 135 columns away from the line (100 +- 12 px) are clipped.
+grep -q "(29.6 % over all frames)" "$dir/err" || fail "clipped share: $(cat "$dir/err")"
+[ "$(wc -l <"$dir/clipped.csv")" -gt 300 ] || fail "the line beside the clipped part"
 
 for method in cog argmax; do
   "$bin" laser detect --images "$dir/frames" --out "$dir/$method.csv" --method $method --quiet 2>/dev/null \

@@ -9,6 +9,7 @@
 
 #include "uwscan/io/dataset.h"
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/laser/clipping.h"
 #include "uwscan/laser/profile.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
@@ -173,6 +174,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   }
   char line[160];
   LaserDetectSummary summary;
+  laser::ClippedScene clipped_total;
   ProgressBar progress("laser detect", static_cast<long>(images.size()), !job.quiet);
   for (size_t i = 0; i < images.size(); ++i) {
     const size_t frame = static_cast<size_t>(indices[i]);
@@ -194,6 +196,11 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);
     if (detection.points.empty()) ++summary.frames_without_line;
+    const laser::ClippedScene clipped = laser::MeasureClipping(image, layout, options.laser_channel,
+                                                               options.scan_rows, detection.points);
+    summary.frames_with_clipped_scene += clipped.Share() >= laser::kClippedFrameShare;
+    clipped_total.clipped += clipped.clipped;
+    clipped_total.examined += clipped.examined;
     summary.points += detection.points.size();
     for (const auto& p : detection.points) {
       std::snprintf(line, sizeof(line), "%zu,%.4f,%.4f,%d,%.5g\n", frame, p.u, p.v, p.channel,
@@ -224,6 +231,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   detections.Commit();
   if (profiles) profiles->Commit();
   if (overlays) overlays->Keep();
+  summary.clipped_scene_share = clipped_total.Share();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

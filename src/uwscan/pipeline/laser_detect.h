@@ -38,6 +38,11 @@ struct LaserDetectSummary {
   long points = 0;
   long profile_points = 0;
   long grazing_points = 0;  // left out of the profiles (laser::kMaxRangeErrorPerPixel)
+  // Frames whose scene is at full scale in the laser's colour on at least
+  // laser::kClippedFrameShare of the image away from the line, and the
+  // share over all frames (laser::MeasureClipping).
+  int frames_with_clipped_scene = 0;
+  double clipped_scene_share = 0.0;
   double seconds = 0.0;
 };
 

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "uwscan/io/image.h"
+#include "uwscan/laser/clipping.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/error.h"
 
@@ -101,6 +102,15 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     report_->frames_with_static_detections +=
         detection->stats.excluded_candidates >= 0.05 * ScanLines();
     report_->frames_sweep_filter_restored += detection->stats.exclusion_restored;
+    // In the raw image: a difference image cancels the clipped scene, not
+    // the line hidden in it.
+    const laser::ClippedScene clipped =
+        laser::MeasureClipping(image, laser::LayoutFor(camera_.bayer, image.channels()),
+                               detector_.laser_channel, detector_.scan_rows, detection->points);
+    report_->clipped_samples += clipped.clipped;
+    report_->clipping_samples_examined += clipped.examined;
+    ++report_->frames_clipping_examined;
+    report_->frames_with_clipped_scene += clipped.Share() >= laser::kClippedFrameShare;
   } else {
     ++report_->frames_laser_off;
     dark_image_ = image;

@@ -158,7 +158,16 @@ struct ReconstructReport {
   long grazing_points = 0;
   double max_range_error_per_px = 0.0;
   int frames_with_static_detections = 0;  // ... on >= 5 % of the scan lines
-  int frames_sweep_filter_restored = 0;   // nearly the whole line would have gone: kept
+  // The scene at full scale in the laser's colour away from the line
+  // (laser::MeasureClipping, frames with the laser on): samples, of how
+  // many looked at, and the frames (of every camera) looked at and those
+  // with at least laser::kClippedFrameShare of it. There the line cannot
+  // stand out: lost, or texture taken for it.
+  long clipped_samples = 0;
+  long clipping_samples_examined = 0;
+  int frames_clipping_examined = 0;
+  int frames_with_clipped_scene = 0;
+  int frames_sweep_filter_restored = 0;  // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   // Of seconds_io: waiting for the reading thread's next image (read,
@@ -180,6 +189,11 @@ struct ReconstructReport {
 
   int scan_lines = 0;  // image rows (or columns) the detector scans: a full profile's points
   double RealTimeFactor() const { return seconds > 0 ? sequence_duration_s / seconds : 0.0; }
+  double ClippedSceneShare() const {
+    return clipping_samples_examined > 0
+               ? static_cast<double>(clipped_samples) / clipping_samples_examined
+               : 0.0;
+  }
   // What degraded the result and why, for the user (also in report.json):
   // frames without a laser line, short profiles, frames without pose,
   // tracking losses, rejected poses.

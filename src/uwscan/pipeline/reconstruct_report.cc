@@ -8,6 +8,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "uwscan/laser/clipping.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/vo_run.h"
 #include "uwscan/util/error.h"
@@ -193,6 +194,17 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
   }
+  if (frames_clipping_examined > 0 &&
+      frames_with_clipped_scene >= laser::kClippedFramesToWarn * frames_clipping_examined) {
+    warnings.push_back(fmt::format(
+        "in {} frame(s) ({} %) the scene itself is at full scale in the laser's colour on {:.0f} "
+        "% or more of the image away from the line ({:.1f} % over all frames): where it is, the "
+        "line cannot stand out, and it is lost there or texture beside it is taken for it; "
+        "lower the camera's exposure or gain (a mono camera gathers about three times the "
+        "light of a colour one)",
+        frames_with_clipped_scene, percent(frames_with_clipped_scene, frames_clipping_examined),
+        100.0 * laser::kClippedFrameShare, 100.0 * ClippedSceneShare()));
+  }
   if (frames_with_off_colour > 0) {
     std::string warning =
         "in " + std::to_string(frames_with_off_colour) + " frame(s) bright spots beside the line " +
@@ -273,6 +285,8 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"grazing_points_dropped", grazing_points},
           {"max_range_error_per_px", max_range_error_per_px},
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
+          {"frames_with_clipped_scene", frames_with_clipped_scene},
+          {"clipped_scene_share", ClippedSceneShare()},
           {"pose_source", pose_source},
           {"pose", pose_details},
           {"other_cameras", cameras},

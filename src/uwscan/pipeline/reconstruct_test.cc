@@ -52,6 +52,12 @@ TEST_F(ReconstructTest, TruePosesGiveMillimetreCloud) {
   EXPECT_EQ(report.frames, 24);
   EXPECT_EQ(report.frames_without_pose, 0);
   EXPECT_GT(report.points, 24 * 120);
+  // A colour camera at the thesis's exposure: the floor and the target's
+  // white squares stay below full scale in green (0.2 % of the samples
+  // clip: the line's glow where it was not found).
+  EXPECT_EQ(report.frames_clipping_examined, 24);
+  EXPECT_EQ(report.frames_with_clipped_scene, 0);
+  EXPECT_LT(report.clipped_samples, report.clipping_samples_examined / 200);
   // The wait for the reading thread is part of the I/O time, which is part of the whole.
   EXPECT_GE(report.seconds_waiting_for_images, 0.0);
   EXPECT_LE(report.seconds_waiting_for_images, report.seconds_io);
@@ -398,6 +404,30 @@ TEST_F(ReconstructTest, CtrlCLeavesNothingBehind) {
     EXPECT_EQ(e.signal(), SIGINT);
   }
   EXPECT_FALSE(fs::exists(root_ / "interrupted"));
+}
+
+// A mono camera at the colour camera's exposure and gain gathers the light
+// of all three colours: the floor's bright patches and the target's white
+// squares clip, the line cannot stand out on them, and the report says so.
+TEST(ReconstructClipping, AMonoCameraAtAColourCamerasExposureSaysTheSceneClips) {
+  const fs::path root = TempFolder("reconstruct_clipping");
+  sim::ScenarioOptions options = ScanOptions(320, 240, 12, 23);
+  options.output = sim::OutputFormat::kMono;
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
+  job.out = root / "out";
+  const ReconstructReport report = RunReconstruct(job);
+  EXPECT_EQ(report.frames_clipping_examined, 12);
+  EXPECT_GE(report.frames_with_clipped_scene, 6);
+  EXPECT_GT(report.clipped_samples, report.clipping_samples_examined / 100);
+  const std::vector<std::string> warnings = report.Warnings();
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+    return w.find("at full scale in the laser's colour") != std::string::npos &&
+           w.find("lower the camera's exposure or gain") != std::string::npos;
+  }));
+  const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
+  EXPECT_EQ(json["frames_with_clipped_scene"], report.frames_with_clipped_scene);
+  EXPECT_GT(json["clipped_scene_share"].get<double>(), 0.01);
+  fs::remove_all(root);
 }
 
 // The report says why a result degraded (turbid water: no line, short

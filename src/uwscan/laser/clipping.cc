@@ -1,0 +1,76 @@
+#include "uwscan/laser/clipping.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "uwscan/laser/scanline.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan::laser {
+
+namespace {
+
+// Samples [from, to) of `samples` at or above `full_scale`.
+long CountClipped(const RowSamples& samples, int from, int to, int full_scale) {
+  long clipped = 0;
+  if (samples.data8) {
+    const uint8_t* p = samples.data8 + samples.first;
+    for (int i = from; i < to; ++i) clipped += p[i * samples.step] >= full_scale;
+  } else {
+    const uint16_t* p = samples.data16 + samples.first;
+    for (int i = from; i < to; ++i) clipped += p[i * samples.step] >= full_scale;
+  }
+  return clipped;
+}
+
+}  // namespace
+
+ClippedScene MeasureClipping(const cv::Mat& image, ColourLayout layout, int laser_channel,
+                             bool scan_rows, const std::vector<LaserPoint>& line, int every_rows,
+                             double margin_px) {
+  UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U,
+            "clipping: images must be 8- or 16-bit");
+  UWS_CHECK(every_rows >= 1, "clipping: every_rows must be >= 1, got ", every_rows);
+  // The line's position on each scan line (image rows when scanning rows,
+  // columns otherwise); NaN where it has none.
+  const int scan_lines = scan_rows ? image.rows : image.cols;
+  std::vector<double> line_at(scan_lines, std::numeric_limits<double>::quiet_NaN());
+  for (const LaserPoint& p : line) {
+    const long index = std::lround(scan_rows ? p.v : p.u);
+    if (index >= 0 && index < scan_lines) line_at[index] = scan_rows ? p.u : p.v;
+  }
+  const int full_scale = image.depth() == CV_8U ? 255 : 65470;
+  const int channel = layout == ColourLayout::kMono ? kMono : laser_channel;
+  ClippedScene result;
+  for (int row = 0; row < image.rows; row += every_rows) {
+    for (const ScanChannel& c : ChannelsOnRow(layout, row)) {
+      if (c.channel != channel) continue;
+      const RowSamples samples = RowChannel(image, layout, row, c);
+      if (scan_rows) {
+        // The samples within margin_px of the line's column: [from, to).
+        int from = samples.count, to = samples.count;
+        if (const double u = line_at[row]; std::isfinite(u)) {
+          from = std::clamp(static_cast<int>(std::ceil((u - margin_px - c.offset) / c.stride)), 0,
+                            samples.count);
+          to = std::clamp(static_cast<int>(std::floor((u + margin_px - c.offset) / c.stride)) + 1,
+                          from, samples.count);
+        }
+        result.examined += samples.count - (to - from);
+        result.clipped += CountClipped(samples, 0, from, full_scale) +
+                          CountClipped(samples, to, samples.count, full_scale);
+        continue;
+      }
+      for (int i = 0; i < samples.count; ++i) {
+        const double on_line = line_at[c.offset + c.stride * i];
+        if (std::abs(row - on_line) <= margin_px) continue;  // NaN: false
+        ++result.examined;
+        result.clipped += CountClipped(samples, i, i + 1, full_scale);
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace uwscan::laser
