@@ -86,8 +86,12 @@ void RegisterEvaluateCommand(CLI::App& app) {
         viewed_depth_given->count() > 0 ? *viewed_depth : MedianViewedDepth(*dataset);
     const TumTrajectory estimate = ReadTumTrajectory(estimate_path);
     const TumTrajectory truth = ReadTumTrajectory(truth_path);
-    const TrajectoryMetrics metrics =
-        ComputeTrajectoryMetrics(estimate.poses, truth.poses, *options);
+    TrajectoryMetrics metrics;
+    try {
+      metrics = ComputeTrajectoryMetrics(estimate.poses, truth.poses, *options);
+    } catch (const Error& e) {  // e.g. too few poses: say which files
+      UWS_THROW(estimate_path.string(), " against ", truth_path.string(), ": ", e.what());
+    }
     std::printf("trajectory %s vs %s (%zu gaps marked)\n%s", estimate_path.c_str(),
                 truth_path.c_str(), estimate.gaps.size(), FormatTrajectoryMetrics(metrics).c_str());
     nlohmann::json json = {{"trajectory", metrics.ToJson()}};

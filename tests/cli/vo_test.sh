@@ -45,6 +45,12 @@ grep -q '"translation_ratio": [0-9.]' "$dir/e.json" || fail "no motion ratio in 
   >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] || fail "--json into a missing folder: want exit 1"
 grep -q "$dir/no/such/e.json" "$dir/err" || fail "--json error does not name the file: $(cat "$dir/err")"
+# A trajectory of two poses: too few to compare, and both files are named.
+grep -v "^#" "$dir/t.tum" | head -2 >"$dir/two.tum"
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/two.tum" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] || fail "two poses: want exit 1"
+grep -q "$dir/two.tum against $dir/seq/groundtruth.tum: .*only 2 poses" "$dir/err" \
+  || fail "too few poses: $(cat "$dir/err")"
 
 # The summary says how many windowed BA solves the time limit stopped.
 grep -q "^windowed BA: [0-9]* solves, [0-9]* stopped by the 0.20 s time limit" "$dir/log" \

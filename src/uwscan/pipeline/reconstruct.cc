@@ -237,9 +237,22 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
                           int pass, int passes, const MeasuredScene* prior,
                           MeasuredScene* measured) {
   const auto start = std::chrono::steady_clock::now();
-  const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
-  const Camera& camera = rig.CameraByName(job.camera_name);
-  const LineProjector& laser = rig.LaserByName(job.laser_name);
+  const fs::path rig_path = job.dataset / "rig.yaml";
+  const Rig rig = ReadRigYaml(rig_path);
+  UWS_CHECK(!rig.lasers.empty(), rig_path.string(),
+            ": the rig has no laser, and reconstruct measures the scene with the laser line (a "
+            "dataset for calibrating the camera alone, such as the aquarium scenario's, cannot "
+            "be reconstructed)");
+  const Camera* named_camera = nullptr;
+  const LineProjector* named_laser = nullptr;
+  try {  // --camera / --laser naming none of the rig's: say which rig
+    named_camera = &rig.CameraByName(job.camera_name);
+    named_laser = &rig.LaserByName(job.laser_name);
+  } catch (const Error& e) {
+    UWS_THROW(rig_path.string(), ": ", e.what());
+  }
+  const Camera& camera = *named_camera;
+  const LineProjector& laser = *named_laser;
   const size_t camera_index = &camera - rig.cameras.data();
   const size_t laser_index = &laser - rig.lasers.data();
   UWS_CHECK(camera_index == 0 || !fs::exists(job.dataset / camera.name / "frames.csv"), "--camera ",

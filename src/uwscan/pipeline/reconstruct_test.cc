@@ -379,6 +379,38 @@ TEST_F(ReconstructTest, BadInputIsAClearErrorWithoutOutput) {
   job.poses_file = root_ / "data" / "groundtruth.tum";
   EXPECT_THROW(RunReconstruct(job), Error);
   EXPECT_FALSE(fs::exists(job.out));
+
+  // A rig without a laser (a camera-calibration dataset), and a laser the
+  // rig does not have: the rig file is named.
+  const fs::path no_laser = root_ / "no_laser";
+  fs::create_directories(no_laser);
+  for (const char* file : {"frames.csv", "groundtruth.tum"})
+    fs::copy_file(root_ / "data" / file, no_laser / file);
+  {
+    std::ifstream in(root_ / "data" / "rig.yaml");
+    std::ofstream rig(no_laser / "rig.yaml");
+    for (std::string line; std::getline(in, line) && line.rfind("lasers:", 0) != 0;)
+      rig << line << "\n";
+  }
+  job.dataset = no_laser;
+  job.out = root_ / "out_no_laser";
+  const auto message = [&] {
+    try {
+      RunReconstruct(job);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message().find((no_laser / "rig.yaml").string() + ": the rig has no laser"),
+            std::string::npos)
+      << message();
+  EXPECT_FALSE(fs::exists(job.out));
+  job.dataset = root_ / "data";
+  job.laser_name = "laser9";
+  EXPECT_NE(message().find("rig.yaml: the rig has no laser named 'laser9'"), std::string::npos)
+      << message();
+  EXPECT_FALSE(fs::exists(job.out));
 }
 
 // Ctrl-C in the middle of a scan (here raised by the pose provider at the
