@@ -94,7 +94,7 @@ done
 expect 2 "air-without-port needs" -- "$UWSCAN" calibrate camera --images "$TMP" --board 9x6:0.025 \
   --model flatport --glass 1.5,0.01 --air-without-port --out "$TMP/bad.yaml"
 # No such folder; bad board text.
-expect 1 "not a directory" -- "$UWSCAN" calibrate camera --images "$TMP/none" --board 9x6:0.025 \
+expect 1 "not a folder" -- "$UWSCAN" calibrate camera --images "$TMP/none" --board 9x6:0.025 \
   --out "$TMP/bad.yaml"
 expect 2 "COLSxROWS" -- "$UWSCAN" calibrate camera --images "$TMP" --board 9by6 --out "$TMP/bad.yaml"
 [[ -e $TMP/bad.yaml ]] && fail "a rig was written on error"

@@ -150,18 +150,7 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
 FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const BoardSpec& board,
                                      const DetectionOptions& options) {
   namespace fs = std::filesystem;
-  UWS_CHECK(fs::is_directory(folder), folder.string(), ": not a directory");
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
-        ext == ".tiff") {
-      files.push_back(entry.path());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  UWS_CHECK(!files.empty(), folder.string(), ": no images (.png, .jpg, .bmp, .tif)");
+  const std::vector<fs::path> files = ListImageFiles(folder);
   FolderDetection result;
   result.set.board = board;
   // Raw Bayer frames of a dataset (its rig.yaml beside or above the folder)

@@ -1,5 +1,7 @@
 #include "uwscan/io/image.h"
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -56,6 +58,41 @@ cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer) {
   cv::Mat bgr;
   cv::cvtColor(raw, bgr, code);
   return bgr;
+}
+
+namespace {
+
+std::vector<std::filesystem::path> ImagesIn(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> images;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    if (!entry.is_regular_file(error)) continue;
+    std::string ext = entry.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff" ||
+        ext == ".pgm" || ext == ".ppm" || ext == ".bmp") {
+      images.push_back(entry.path());
+    }
+  }
+  std::sort(images.begin(), images.end());
+  return images;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> ListImageFiles(const std::filesystem::path& folder) {
+  std::error_code error;
+  UWS_CHECK(std::filesystem::is_directory(folder, error), folder.string(), ": not a folder");
+  std::vector<std::filesystem::path> images = ImagesIn(folder);
+  if (images.empty() && std::filesystem::is_directory(folder / "frames", error) &&
+      !ImagesIn(folder / "frames").empty()) {
+    UWS_THROW(folder.string(), ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder; it is a ",
+              "dataset, whose images are in ", (folder / "frames").string());
+  }
+  UWS_CHECK(!images.empty(), folder.string(),
+            ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder");
+  return images;
 }
 
 }  // namespace uwscan

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 namespace uwscan {
 
@@ -17,5 +18,11 @@ cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer);
 
 // Reads any image unchanged (bit depth and channels kept).
 cv::Mat ReadImage(const std::filesystem::path& path);
+
+// The image files of a folder (png, jpg, jpeg, tif, tiff, pgm, ppm, bmp, any
+// case), sorted by name. Throws uwscan::Error naming the folder if it is
+// none or holds no image; for a dataset folder (images in its frames/) the
+// error says where they are.
+std::vector<std::filesystem::path> ListImageFiles(const std::filesystem::path& folder);
 
 }  // namespace uwscan

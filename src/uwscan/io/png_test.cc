@@ -4,8 +4,8 @@
 #include <libdeflate.h>
 #include <unistd.h>
 
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
@@ -22,7 +22,8 @@ void Put32(std::vector<uint8_t>* out, uint32_t v) {
   for (int shift = 24; shift >= 0; shift -= 8) out->push_back(uint8_t(v >> shift));
 }
 
-void PutChunk(std::vector<uint8_t>* out, const std::string& type, const std::vector<uint8_t>& data) {
+void PutChunk(std::vector<uint8_t>* out, const std::string& type,
+              const std::vector<uint8_t>& data) {
   Put32(out, uint32_t(data.size()));
   std::vector<uint8_t> body(type.begin(), type.end());
   body.insert(body.end(), data.begin(), data.end());
@@ -103,8 +104,10 @@ cv::Mat RandomImage(int type, uint32_t seed) {
   rng.fill(image, cv::RNG::UNIFORM, 0, image.depth() == CV_16U ? 65536 : 256);
   // and some smooth rows, as in real images
   for (int x = 0; x < image.cols * image.channels(); ++x) {
-    if (image.depth() == CV_8U) image.ptr<uint8_t>(5)[x] = uint8_t(x);
-    else image.ptr<uint16_t>(5)[x] = uint16_t(x * 1000);
+    if (image.depth() == CV_8U)
+      image.ptr<uint8_t>(5)[x] = uint8_t(x);
+    else
+      image.ptr<uint16_t>(5)[x] = uint16_t(x * 1000);
   }
   return image;
 }
@@ -177,7 +180,7 @@ TEST(Png, DamagedFilesGiveErrorsNamingTheFileAndTheProblem) {
   const std::vector<uint8_t> reference = EncodePng(one, 0);
   std::vector<uint8_t> raw;
   for (int y = 0; y < 4; ++y) {
-    raw.push_back(7);                      // the filter type byte
+    raw.push_back(7);  // the filter type byte
     for (int x = 0; x < 4; ++x) raw.push_back(9);
   }
   libdeflate_compressor* compressor = libdeflate_alloc_compressor(1);
@@ -245,6 +248,39 @@ TEST_F(ReadImageTest, UnreadableFilesAreNamed) {
     }
   }
   EXPECT_THROW(ReadImage(dir_ / "missing.png"), Error);
+}
+
+// A folder's images by name, whatever the case of their extension; other
+// files and subfolders left out; a folder without images, or none, is an
+// error naming it, and a dataset folder's error says where its images are.
+TEST_F(ReadImageTest, ListImageFilesFindsAFoldersImagesAndSaysWhereADatasetsAre) {
+  const fs::path folder = dir_ / "list";
+  fs::create_directories(folder / "sub.png");  // a folder, not an image
+  for (const char* name : {"b.PNG", "a.jpg", "c.pgm", "d.tiff", "notes.txt", "e.bmp"})
+    std::ofstream(folder / name) << "x";
+  const std::vector<fs::path> images = ListImageFiles(folder);
+  std::vector<std::string> names;
+  for (const auto& path : images) names.push_back(path.filename().string());
+  EXPECT_EQ(names, (std::vector<std::string>{"a.jpg", "b.PNG", "c.pgm", "d.tiff", "e.bmp"}));
+
+  const auto message = [](const fs::path& path) {
+    try {
+      ListImageFiles(path);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(dir_ / "none"), (dir_ / "none").string() + ": not a folder");
+  const fs::path dataset = dir_ / "dataset";
+  fs::create_directories(dataset / "frames");
+  EXPECT_EQ(message(dataset),
+            dataset.string() + ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder");
+  std::ofstream(dataset / "frames" / "000000.png") << "x";
+  EXPECT_EQ(message(dataset), dataset.string() +
+                                  ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder; it "
+                                  "is a dataset, whose images are in " +
+                                  (dataset / "frames").string());
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <opencv2/imgcodecs.hpp>
 
+#include "uwscan/io/image.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/laser/synthetic_line.h"
 #include "uwscan/pipeline/laser_detect.h"
@@ -43,7 +44,7 @@ std::vector<cv::Mat> LoadDatasetFrames(const std::string& dataset, int max_frame
     detector->laser_channel = laser::ChannelForWavelength(rig.lasers.front().wavelength_nm);
   }
   std::vector<cv::Mat> frames;
-  for (const auto& path : ListImages(root / "frames")) {
+  for (const auto& path : ListImageFiles(root / "frames")) {
     if (static_cast<int>(frames.size()) >= max_frames) break;
     cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
     UWS_CHECK(!image.empty(), path.string(), ": unreadable image");

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "uwscan/io/dataset.h"
+#include "uwscan/io/image.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/laser/clipping.h"
 #include "uwscan/laser/profile.h"
@@ -31,25 +32,6 @@ void LaserDetectJob::Check() const {
   UWS_CHECK(dataset_dir.empty() != images_dir.empty(), "give either --dataset or --images");
   UWS_CHECK(!profiles_csv || rig_path || !dataset_dir.empty(),
             "--profiles needs a rig (--rig or --dataset)");
-}
-
-std::vector<fs::path> ListImages(const fs::path& dir) {
-  std::error_code error;
-  UWS_CHECK(fs::is_directory(dir, error), dir.string(), ": not a folder");
-  std::vector<fs::path> images;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (!entry.is_regular_file()) continue;
-    std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff" ||
-        ext == ".pgm" || ext == ".ppm" || ext == ".bmp") {
-      images.push_back(entry.path());
-    }
-  }
-  std::sort(images.begin(), images.end());
-  UWS_CHECK(!images.empty(), dir.string(),
-            ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder");
-  return images;
 }
 
 bool LaserLineIsVertical(const Camera& camera, const Rigid3d& camera_from_laser) {
@@ -129,7 +111,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       angles.push_back(record.laser_angle_rad.value_or(0.0));
     }
   } else {
-    images = ListImages(job.images_dir);
+    images = ListImageFiles(job.images_dir);
     for (size_t i = 0; i < images.size(); ++i) indices.push_back(static_cast<int>(i));
     angles.assign(images.size(), 0.0);
     if (job.rig_path) rig = ReadRigYaml(*job.rig_path);

@@ -46,9 +46,6 @@ struct LaserDetectSummary {
   double seconds = 0.0;
 };
 
-// Image files of a folder, sorted by name (png, jpg, jpeg, tif, tiff, pgm, ppm, bmp).
-std::vector<std::filesystem::path> ListImages(const std::filesystem::path& dir);
-
 // Whether to scan along rows: true when the laser line runs more vertically
 // than horizontally in the image (projected sheet points at 1-3 m).
 bool LaserLineIsVertical(const Camera& camera, const Rigid3d& camera_from_laser);
