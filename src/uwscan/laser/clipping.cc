@@ -12,17 +12,37 @@ namespace uwscan::laser {
 
 namespace {
 
-// Samples [from, to) of `samples` at or above `full_scale`.
-long CountClipped(const RowSamples& samples, int from, int to, int full_scale) {
+// Elements p[i * step], i in [from, to), at or above `full_scale`; a step
+// known at compile time lets the compiler vectorise the strided loads.
+template <int kStep, typename T>
+long CountAtLeast(const T* p, int from, int to, int full_scale) {
   long clipped = 0;
-  if (samples.data8) {
-    const uint8_t* p = samples.data8 + samples.first;
-    for (int i = from; i < to; ++i) clipped += p[i * samples.step] >= full_scale;
-  } else {
-    const uint16_t* p = samples.data16 + samples.first;
-    for (int i = from; i < to; ++i) clipped += p[i * samples.step] >= full_scale;
-  }
+  for (int i = from; i < to; ++i) clipped += p[i * kStep] >= full_scale;
   return clipped;
+}
+
+// Samples [from, to) of `samples` at or above `full_scale`.
+template <typename T>
+long CountClipped(const T* p, int step, int from, int to, int full_scale) {
+  switch (step) {
+    case 1:
+      return CountAtLeast<1>(p, from, to, full_scale);
+    case 2:
+      return CountAtLeast<2>(p, from, to, full_scale);
+    case 3:
+      return CountAtLeast<3>(p, from, to, full_scale);
+    default: {
+      long clipped = 0;
+      for (int i = from; i < to; ++i) clipped += p[i * step] >= full_scale;
+      return clipped;
+    }
+  }
+}
+
+long CountClipped(const RowSamples& samples, int from, int to, int full_scale) {
+  return samples.data8
+             ? CountClipped(samples.data8 + samples.first, samples.step, from, to, full_scale)
+             : CountClipped(samples.data16 + samples.first, samples.step, from, to, full_scale);
 }
 
 }  // namespace
