@@ -256,10 +256,10 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   const size_t camera_index = &camera - rig.cameras.data();
   const size_t laser_index = &laser - rig.lasers.data();
   UWS_CHECK(camera_index == 0 || !fs::exists(job.dataset / camera.name / "frames.csv"), "--camera ",
-            camera.name, ": ", job.dataset.string(), " holds the images of camera '",
-            rig.cameras.front().name, "'; camera '", camera.name, "''s are in ",
-            (job.dataset / camera.name).string(),
-            " (reconstructing the whole dataset uses every camera)");
+            camera.name, ": the images in ", job.dataset.string(), " are those of camera '",
+            rig.cameras.front().name, "'; for camera '", camera.name, "' alone give --dataset ",
+            (job.dataset / camera.name).string(), " (", job.dataset.string(),
+            " itself uses every camera)");
   const Rigid3d camera_from_laser = rig.CameraFromLaser(camera_index, laser_index);
   const auto frames = ReadFrames(job.dataset, job.max_frames);
   ReconstructReport report;

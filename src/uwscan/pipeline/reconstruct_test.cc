@@ -214,7 +214,16 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
   // Camera 1 named on the top folder: its images are elsewhere.
   job.camera_name = "cam1";
   job.out = root / "wrong_camera";
-  EXPECT_THROW(RunReconstruct(job), Error);
+  try {
+    RunReconstruct(job);
+    ADD_FAILURE() << "camera 1 on the top folder: no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("for camera 'cam1' alone give --dataset " +
+                                         (job.dataset / "cam1").string()),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(job.out));
   fs::remove_all(root);
 }
 

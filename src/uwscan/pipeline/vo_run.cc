@@ -282,6 +282,24 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   }
   summary.posed = int(trajectory.poses.size());
   summary.gaps = int(trajectory.gaps.size());
+  // Monocular VO starts once the features have moved by
+  // init_parallax_fraction of the image: a hover may never get there.
+  const std::string initializing = vo::FrameStatusName(vo::FrameStatus::kInitializing);
+  int waited = 0;
+  for (int i = 0; i < total; ++i)
+    waited += !poses.count(i) && reasons[size_t(i)].rfind(initializing, 0) == 0;
+  if (total > 0 && waited >= 0.25 * total) {
+    const std::string why = fmt::format(
+        "monocular odometry starts once the features have moved {:g} % of the image width (the "
+        "camera moving sideways); `uwscan reconstruct` starts from the laser's ranges instead",
+        100.0 * odometry_options.init_parallax_fraction);
+    summary.warnings.insert(
+        summary.warnings.begin(),
+        summary.posed == 0 ? "the odometry never started: " + why
+                           : fmt::format("{} of the {} frames ({:.0f} %) got no pose while the "
+                                         "odometry waited to start: {}",
+                                         waited, total, 100.0 * waited / total, why));
+  }
   WriteTumTrajectory(job.trajectory_out, trajectory);
   if (job.status_out) {
     std::string text = "frame,timestamp_s,status,keyframe,tracks,inliers,message\n";

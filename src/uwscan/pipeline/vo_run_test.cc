@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "uwscan/pipeline/testing.h"
 #include "uwscan/pipeline/vo_synthetic.h"
 
 namespace uwscan {
@@ -47,6 +48,38 @@ TEST(VoRun, HeldKeyframesBeforeTheWindowHalveTheDrift) {
   EXPECT_GE(with.associated, 295);
   EXPECT_LT(with.drift_trans_percent, 0.6 * without.drift_trans_percent);
   EXPECT_LT(with.ate_rmse_m, 0.6 * without.ate_rmse_m);
+  // The transect moves from its first frame: no word of waiting to start.
+  VoJob first_frames;
+  first_frames.dataset_dir = root / "transect";
+  first_frames.trajectory_out = root / "first_frames.tum";
+  first_frames.mask_laser = true;
+  first_frames.quiet = true;
+  first_frames.max_frames = 60;
+  for (const std::string& warning : RunVisualOdometry(first_frames).warnings)
+    EXPECT_EQ(warning.find("waited to start"), std::string::npos) << warning;
+  fs::remove_all(root);
+}
+
+// A hovering platform gives monocular odometry no parallax to start from:
+// the run says so instead of leaving an empty trajectory unexplained.
+TEST(VoRun, AHoverThatNeverStartsIsExplained) {
+  const fs::path root = pipeline_testing::TempFolder("vo_run_hover");
+  sim::SimulateScenario("tank-target", pipeline_testing::ScanOptions(320, 240, 30, 5),
+                        root / "hover");
+  VoJob job;
+  job.dataset_dir = root / "hover";
+  job.trajectory_out = root / "hover.tum";
+  job.mask_laser = true;
+  job.quiet = true;
+  const VoRunSummary summary = RunVisualOdometry(job);
+  EXPECT_EQ(summary.posed, 0);
+  ASSERT_FALSE(summary.warnings.empty());
+  EXPECT_EQ(summary.warnings.front().rfind("the odometry never started: monocular odometry "
+                                           "starts once the features have moved 5 % of the "
+                                           "image width",
+                                           0),
+            0u)
+      << summary.warnings.front();
   fs::remove_all(root);
 }
 
