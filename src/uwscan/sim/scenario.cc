@@ -58,7 +58,7 @@ void AddThesisScanner(const ScenarioOptions& options, int width, int height, Sim
   config->sensor.bits = options.bits.value_or(8);
   config->sensor.pixel_pitch_m = 3.75e-6 * 1280.0 / width;
   config->sensor.f_number = 2.0;
-  config->sensor.gain = 4.0;
+  config->sensor.gain = options.gain.value_or(kDefaultGain);
   config->render.threads = options.threads;
 }
 
@@ -258,6 +258,10 @@ void ScenarioOptions::Check() const {
               "--laser-power must be in [0, 100] W (got ", *laser_power_w, ")");
   }
   if (bits) UWS_CHECK(*bits == 8 || *bits == 12 || *bits == 16, "--bits must be 8, 12 or 16");
+  if (gain) {
+    UWS_CHECK(std::isfinite(*gain) && *gain >= 1 && *gain <= 1000,
+              "--gain must be in [1, 1000] (got ", *gain, ")");
+  }
   if (port_gap_mm) {
     UWS_CHECK(std::isfinite(*port_gap_mm) && *port_gap_mm >= 0 && *port_gap_mm <= 100,
               "--port-gap-mm must be in [0, 100] (got ", *port_gap_mm, ")");

@@ -22,6 +22,10 @@ namespace uwscan::sim {
 
 const std::vector<std::string>& ScenarioNames();
 
+// The scenarios' camera gain (ScenarioOptions::gain): 8-bit full scale at
+// 2500 electrons, the line at 2 m in clear water 5.6x above it.
+constexpr double kDefaultGain = 4.0;
+
 // Unset fields take the scenario's default.
 struct ScenarioOptions {
   std::optional<int> frames;
@@ -32,6 +36,9 @@ struct ScenarioOptions {
   std::optional<double> laser_power_w;
   std::optional<OutputFormat> output;
   std::optional<int> bits;
+  // Analog gain: full scale at full_well_e / gain (default kDefaultGain; a
+  // mono camera gathers about 3x the light of a colour one).
+  std::optional<double> gain;
   int threads = 2;
   // aquarium (§6.1): gap between lens and window (1, 10, 20 mm in the
   // thesis) and window tilt; the scanner scenarios (tank-target, hull,

@@ -56,7 +56,7 @@ SimConfig CalibrationConfig(const Camera& camera, const ScenarioOptions& options
   config.sensor.bits = options.bits.value_or(8);
   config.sensor.pixel_pitch_m = 3.75e-6 * 1280.0 / camera.width;
   config.sensor.f_number = 2.0;
-  config.sensor.gain = 4.0;
+  config.sensor.gain = options.gain.value_or(kDefaultGain);
   config.render.threads = options.threads;
   return config;
 }
