@@ -75,13 +75,9 @@ void RegisterLaserCommands(CLI::App& app) {
                    s.frames, s.frames_without_line, s.unreadable_frames, s.points,
                    s.frames / std::max(s.seconds, 1e-9), out->c_str());
       if (s.frames > 0 && s.frames_with_clipped_scene >= laser::kClippedFramesToWarn * s.frames) {
-        std::fprintf(stderr,
-                     "laser detect: warning: in %d frame(s) the scene itself is at full scale in "
-                     "the laser's colour on %.0f %% or more of the image away from the line "
-                     "(%.1f %% over all frames): the line cannot stand out there; lower the "
-                     "camera's exposure or gain\n",
-                     s.frames_with_clipped_scene, 100.0 * laser::kClippedFrameShare,
-                     100.0 * s.clipped_scene_share);
+        std::fprintf(
+            stderr, "laser detect: warning: %s\n",
+            laser::ClippedSceneWarning(s.frames_with_clipped_scene, s.clipped_scene_share).c_str());
       }
       if (s.grazing_points > 0) {
         std::fprintf(stderr,

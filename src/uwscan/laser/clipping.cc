@@ -1,5 +1,7 @@
 #include "uwscan/laser/clipping.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -47,6 +49,16 @@ long CountClipped(const RowSamples& samples, int from, int to, int full_scale) {
 
 }  // namespace
 
+std::string ClippedSceneWarning(int frames_clipped, double share) {
+  return fmt::format(
+      "in {} frame(s) the scene itself is at full scale in the laser's colour on {:.0f} % or "
+      "more of the image away from the line ({:.1f} % over all frames): where it is, the line "
+      "cannot stand out, and it is lost there or texture beside it is taken for it; lower the "
+      "camera's exposure or gain (a mono camera gathers about three times the light of a colour "
+      "one)",
+      frames_clipped, 100.0 * kClippedFrameShare, 100.0 * share);
+}
+
 ClippedScene MeasureClipping(const cv::Mat& image, ColourLayout layout, int laser_channel,
                              bool scan_rows, const std::vector<LaserPoint>& line, int every_rows,
                              double margin_px) {
@@ -86,7 +98,7 @@ ClippedScene MeasureClipping(const cv::Mat& image, ColourLayout layout, int lase
         const double on_line = line_at[c.offset + c.stride * i];
         if (std::abs(row - on_line) <= margin_px) continue;  // NaN: false
         ++result.examined;
-        result.clipped += CountClipped(samples, i, i + 1, full_scale);
+        result.clipped += samples.Value(i) >= full_scale;
       }
     }
   }

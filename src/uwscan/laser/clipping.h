@@ -5,6 +5,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "uwscan/laser/detector.h"
@@ -15,6 +16,10 @@ namespace uwscan::laser {
 // of it; the reports warn when this many of the frames (or more) have.
 constexpr double kClippedFrameShare = 0.01;
 constexpr double kClippedFramesToWarn = 0.1;
+
+// What the reports say when kClippedFramesToWarn of the frames or more are
+// clipped: `frames_clipped` of them, and the share of all samples clipped.
+std::string ClippedSceneWarning(int frames_clipped, double share);
 
 struct ClippedScene {
   long clipped = 0;   // samples at full scale

@@ -196,14 +196,7 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   }
   if (frames_clipping_examined > 0 &&
       frames_with_clipped_scene >= laser::kClippedFramesToWarn * frames_clipping_examined) {
-    warnings.push_back(fmt::format(
-        "in {} frame(s) ({} %) the scene itself is at full scale in the laser's colour on {:.0f} "
-        "% or more of the image away from the line ({:.1f} % over all frames): where it is, the "
-        "line cannot stand out, and it is lost there or texture beside it is taken for it; "
-        "lower the camera's exposure or gain (a mono camera gathers about three times the "
-        "light of a colour one)",
-        frames_with_clipped_scene, percent(frames_with_clipped_scene, frames_clipping_examined),
-        100.0 * laser::kClippedFrameShare, 100.0 * ClippedSceneShare()));
+    warnings.push_back(laser::ClippedSceneWarning(frames_with_clipped_scene, ClippedSceneShare()));
   }
   if (frames_with_off_colour > 0) {
     std::string warning =
