@@ -2,7 +2,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps build test demo bench format clean
+.PHONY: all deps build test demo bench sanitize format clean
 
 all: build
 
@@ -23,6 +23,11 @@ demo: build
 
 bench: build
 	$(BUILD_DIR)/bin/uwscan bench projection
+
+# Every test under AddressSanitizer and UndefinedBehaviorSanitizer
+# (build-sanitize/; some 40 min on 2 cores, so not part of `make test`).
+sanitize: deps
+	bash scripts/sanitize.sh
 
 format:
 	clang-format -i $$(git ls-files '*.cc' '*.h')
