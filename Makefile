@@ -25,7 +25,7 @@ bench: build
 	$(BUILD_DIR)/bin/uwscan bench projection
 
 # Every test under AddressSanitizer and UndefinedBehaviorSanitizer
-# (build-sanitize/; some 40 min on 2 cores, so not part of `make test`).
+# (build-sanitize/; some 45 min on 2 cores, so not part of `make test`).
 sanitize: deps
 	bash scripts/sanitize.sh
 

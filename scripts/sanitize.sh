@@ -1,7 +1,7 @@
 #!/bin/bash
 # Builds the tests with AddressSanitizer and UndefinedBehaviorSanitizer in
 # build-sanitize/ (or $1) and runs them: `make sanitize`. Takes about 20 min
-# to build and 20 min to run on 2 cores (the pipeline tests run 5-10x
+# to build and 25 min to run on 2 cores (the pipeline tests run 5-10x
 # slower), so it is not part of `make test`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
