@@ -1,6 +1,5 @@
 #include "uwscan/calib/checkerboard.h"
 
-#include <algorithm>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>

@@ -1,6 +1,5 @@
 #include "uwscan/pipeline/laser_detect.h"
 
-#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
