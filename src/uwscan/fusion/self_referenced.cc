@@ -582,6 +582,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"start_settled",
            init_refinements_done_ > 1 ? nlohmann::json(init_settled_) : nlohmann::json()},
           {"start_last_change_mm", 1e3 * init_last_move_m_},
+          {"start_settled_within_mm", 1e3 * options_.init_settled_m},
           {"start_last_change_deg", init_last_turn_deg_},
           {"keyframes", keyframes_},
           {"implausible_poses_rejected", implausible_},

@@ -544,6 +544,24 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   snowy.pose_source = "external trajectory";
   EXPECT_EQ(snowy.Warnings()[0].find("scale"), std::string::npos);
 
+  // A start that had not settled: a few millimetres off may only bend the
+  // start; ten times the tolerance off, the features did not hold the
+  // scene still and the whole trajectory may be off (turbid water).
+  ReconstructReport unsettled = good;
+  unsettled.pose_details["start_settled"] = false;
+  unsettled.pose_details["start_refinements"] = 3;
+  unsettled.pose_details["start_settled_within_mm"] = 2.0;
+  unsettled.pose_details["start_last_change_mm"] = 19.3;
+  ASSERT_EQ(unsettled.Warnings().size(), 1u);
+  EXPECT_TRUE(says(unsettled, 0, "(their poses still moved 19.3 mm rms): the start of the"));
+  EXPECT_EQ(unsettled.Warnings()[0].find("whole trajectory"), std::string::npos);
+  unsettled.pose_details["start_last_change_mm"] = 22.2;
+  ASSERT_EQ(unsettled.Warnings().size(), 1u);
+  EXPECT_TRUE(says(unsettled, 0, "still moved 22.2 mm rms, more than ten times the 2 mm"));
+  EXPECT_TRUE(says(unsettled, 0, "the whole trajectory rests on that start"));
+  unsettled.pose_details["start_settled"] = true;
+  EXPECT_TRUE(unsettled.Warnings().empty());
+
   // Points whose ray grazes the sheet: a few are stray light, silently
   // dropped (in report.json); from 1 % of the points on, a warning.
   ReconstructReport grazing = good;
