@@ -239,8 +239,8 @@ std::vector<std::string> ReconstructReport::Warnings() const {
     // Far from settled, the held frames' tracks do not hold the scene still
     // (faint, noisy features), and every later pose rests on that start: in
     // turbid water the simulator's hovers came out at 0.05-0.56 of their
-    // true scale above 10x the tolerance, 0.97-1.02 below
-    // (BENCHMARKS.md, "Turbid water, measured again").
+    // true scale above 10x the tolerance. Below it they may still be far
+    // off (BENCHMARKS.md, "Turbid water, measured again").
     if (moved_mm > 10.0 * within_mm) {
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements: their poses "
@@ -253,8 +253,9 @@ std::vector<std::string> ReconstructReport::Warnings() const {
     } else {
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements (their poses still "
-          "moved {:.1f} mm rms): the start of the trajectory may be off (a sweep too fast or too "
-          "short for the scene's plane; --max-init-refinements)",
+          "moved {:.1f} mm rms): the start of the trajectory may be off, and with it the rest "
+          "(a sweep too fast or too short for the scene's plane, or features too faint or noisy "
+          "to track: turbid water, a dark scene; --max-init-refinements)",
           count("start_refinements"), moved_mm));
     }
   }
