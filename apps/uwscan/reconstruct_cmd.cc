@@ -99,10 +99,12 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "frames a feature track cut by the laser line may stay lost and still be taken "
                   "up again under its id (thesis §5.5; 0 = off)")
       ->capture_default_str();
-  cmd->add_option("--max-tracking-width", job->self_referenced.max_tracking_width,
-                  "the odometry tracks the image halved until it is at most this wide (0 = full "
-                  "resolution)")
-      ->capture_default_str();
+  CLI::Option* tracking_width =
+      cmd->add_option("--max-tracking-width", job->self_referenced.max_tracking_width,
+                      "the odometry tracks the image halved until it is at most this wide (0 = "
+                      "full resolution); not given, a run whose start does not settle at all "
+                      "(turbid water) runs again tracking half the image")
+          ->capture_default_str();
   cmd->add_option("--track-every", *track_every,
                   "the odometry tracks every Nth frame once running; the frames between get "
                   "poses interpolated between the tracked ones; auto: every frame up to 100 Hz, "
@@ -186,6 +188,7 @@ void RegisterReconstructCommand(CLI::App& app) {
       throw UsageError("--passes must be auto, 1, 2 or 3, got '" + *passes + "'");
     }
     job->track_every = ParseTrackEvery(*track_every);
+    job->retry_smaller_tracking = tracking_width->count() == 0;
     job->contrast_scale = ParseContrastScale(*contrast_scale);
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {

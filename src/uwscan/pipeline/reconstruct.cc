@@ -233,9 +233,11 @@ struct MeasuredScene {
 // `prior` (a later pass) starts the self-referenced odometry on the pass
 // before's surface, `measured` receives this pass's. `pass` counts from 1
 // (of `passes`, 0 while not known).
+// `retried` is the report of a first attempt this one runs again
+// (ReconstructJob::retry_smaller_tracking), if any.
 ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::PoseProvider> provider,
-                          int pass, int passes, const MeasuredScene* prior,
-                          MeasuredScene* measured) {
+                          int pass, int passes, const MeasuredScene* prior, MeasuredScene* measured,
+                          const ReconstructReport* retried = nullptr) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path rig_path = job.dataset / "rig.yaml";
   const Rig rig = ReadRigYaml(rig_path);
@@ -321,6 +323,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   long total_frames = static_cast<long>(frames.size());
   for (const auto& other : others) total_frames += static_cast<long>(other.frames.size());
   std::string label = "reconstruct";
+  if (retried)
+    label += ", again at " + std::to_string(job.self_referenced.max_tracking_width) + " px";
   if (passes > 1) label += ", pass " + std::to_string(pass) + " of " + std::to_string(passes);
   ProgressBar progress(label, total_frames, !job.quiet);
   long frames_done = 0;
@@ -462,7 +466,11 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   uncompensated.Close();
   trajectory.Commit();
   report.passes = pass;
-  report.seconds_earlier_passes = prior ? prior->seconds : 0.0;
+  report.seconds_earlier_passes = prior ? prior->seconds : retried ? retried->seconds : 0.0;
+  if (retried) {
+    report.tracking_retried_from_width = retried->pose_details.value("tracked_image_width", 0);
+    report.retried_start_change_mm = retried->pose_details.value("start_last_change_mm", 0.0);
+  }
   report.seconds = Seconds(start) + report.seconds_earlier_passes;
   if (measured) measured->seconds = report.seconds;
   nlohmann::json json = report.ToJson();
@@ -494,14 +502,26 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   UWS_CHECK(fs::is_directory(job.dataset), job.dataset.string(), ": no such dataset folder");
   InterruptibleScope interruptible;
   OutputFolder out(job.out);  // removed again if the run fails and left it empty
-  if (provider || job.poses_file || job.passes == 1) {
+  if (provider || job.poses_file) {
     ReconstructReport report = RunPass(job, std::move(provider), 1, 1, nullptr, nullptr);
     out.Keep();
     return report;
   }
   MeasuredScene measured;
-  ReconstructReport report = RunPass(job, nullptr, 1, job.passes, nullptr, &measured);
+  MeasuredScene* measure = job.passes == 1 ? nullptr : &measured;
+  ReconstructReport report = RunPass(job, nullptr, 1, job.passes, nullptr, measure);
   out.Keep();  // the first pass's outputs stand
+  // Its start did not hold the scene still: once more on a smaller tracked
+  // image, whose outputs replace the first attempt's.
+  ReconstructJob used = job;
+  if (const std::optional<int> width = report.SmallerTrackingWidth();
+      width && job.retry_smaller_tracking) {
+    used.self_referenced.max_tracking_width = *width;
+    measured = MeasuredScene();
+    const ReconstructReport first = report;
+    report = RunPass(used, nullptr, 1, job.passes, nullptr, measure, &first);
+  }
+  if (job.passes == 1) return report;
   // Auto: more passes only where the first found a surface in front of the
   // scene's main one, whose depths the features had to guess until the
   // laser reached it.
@@ -509,7 +529,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   const int passes = job.passes == 0 ? ReconstructJob::kMaxPasses : job.passes;
   for (int pass = 2; pass <= passes; ++pass) {
     MeasuredScene next;
-    report = RunPass(job, nullptr, pass, passes, &measured, pass < passes ? &next : nullptr);
+    report = RunPass(used, nullptr, pass, passes, &measured, pass < passes ? &next : nullptr);
     measured = std::move(next);
   }
   return report;

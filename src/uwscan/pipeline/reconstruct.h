@@ -104,6 +104,13 @@ struct ReconstructJob {
   // costs the time of the first; the last one's outputs replace the others'.
   int passes = 0;
   static constexpr int kMaxPasses = 3;  // also auto's, when it takes more than one
+  // A first pass whose start had not settled by ten times its tolerance
+  // (faint, noisy features: turbid water) on a tracked image 640 px wide
+  // or more is run again tracking half of it, which averages more of the
+  // sensor's noise in each KLT window (ReconstructReport::
+  // SmallerTrackingWidth; BENCHMARKS.md, "Turbid water, measured again").
+  // The CLI turns it off when --max-tracking-width is given.
+  bool retry_smaller_tracking = true;
   // The odometry tracks every Nth frame once running and places the frames
   // between between them (SelfReferencedOptions::track_every, which this
   // sets). 0 (auto): the fewest N that keep the tracked rate at or below
@@ -182,7 +189,12 @@ struct ReconstructReport {
   int track_every = 1;                   // the odometry's, as used (ReconstructJob::track_every)
   bool async_bundle_adjustment = false;  // as used (ReconstructJob::async_bundle_adjustment)
   double seconds_earlier_passes = 0.0;   // of the passes before the last (included in `seconds`)
-  double sequence_duration_s = 0.0;      // from the frame timestamps
+  // The tracked image's width of a first attempt run again at half of it
+  // (ReconstructJob::retry_smaller_tracking), and how far that attempt's
+  // start still moved (mm rms); 0 if none.
+  int tracking_retried_from_width = 0;
+  double retried_start_change_mm = 0.0;
+  double sequence_duration_s = 0.0;  // from the frame timestamps
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider
   std::vector<CameraReport> other_cameras;
@@ -198,6 +210,10 @@ struct ReconstructReport {
   // frames without a laser line, short profiles, frames without pose,
   // tracking losses, rejected poses.
   std::vector<std::string> Warnings() const;
+  // Half the odometry's tracked image width if its start had not settled
+  // by ten times its tolerance and that half is at least 320 px (the
+  // narrowest it tracks); none otherwise.
+  std::optional<int> SmallerTrackingWidth() const;
   nlohmann::json ToJson() const;
 };
 

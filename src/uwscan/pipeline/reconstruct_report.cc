@@ -111,6 +111,27 @@ bool ResolveAsyncBundleAdjustment(std::optional<bool> async,
   return async.value_or(vo::AsyncBundleAdjustmentByDefault(MeanFrameInterval(frames)));
 }
 
+namespace {
+
+// A start whose poses still move by more than this many times the
+// tolerance they settle within did not hold the scene still
+// (BENCHMARKS.md, "Turbid water, measured again").
+constexpr double kFarFromSettled = 10.0;
+
+}  // namespace
+
+std::optional<int> ReconstructReport::SmallerTrackingWidth() const {
+  if (!pose_details.is_object()) return std::nullopt;
+  const auto settled = pose_details.find("start_settled");
+  if (settled == pose_details.end() || !settled->is_boolean() || settled->get<bool>())
+    return std::nullopt;
+  const double moved_mm = pose_details.value("start_last_change_mm", 0.0);
+  const double within_mm = pose_details.value("start_settled_within_mm", 2.0);
+  const int half = pose_details.value("tracked_image_width", 0) / 2;
+  if (!(moved_mm > kFarFromSettled * within_mm) || half < 320) return std::nullopt;
+  return half;
+}
+
 std::vector<std::string> ReconstructReport::Warnings() const {
   std::vector<std::string> warnings;
   const auto percent = [](double part, double whole) {
@@ -236,28 +257,49 @@ std::vector<std::string> ReconstructReport::Warnings() const {
       pose_details["start_settled"].is_boolean() && !pose_details["start_settled"].get<bool>()) {
     const double moved_mm = pose_details.value("start_last_change_mm", 0.0);
     const double within_mm = pose_details.value("start_settled_within_mm", 2.0);
+    // A smaller tracked image averages more of the sensor's noise in each
+    // KLT window: the simulator's 640x480 hovers in water of c_p 0.7-1.0
+    // tracked at 320 px came out at 0.85-1.07 of their true scale on five
+    // of six, against 0.05-0.56 at 640 (BENCHMARKS.md, "Turbid water,
+    // measured again"). The odometry tracks no image narrower than 320 px.
+    const int tracked_width = count("tracked_image_width");
+    const std::string smaller =
+        tracked_width >= 640
+            ? fmt::format(
+                  "; a smaller tracked image averages more of the sensor's noise: try "
+                  "--max-tracking-width {}",
+                  tracked_width / 2)
+            : "";
     // Far from settled, the held frames' tracks do not hold the scene still
     // (faint, noisy features), and every later pose rests on that start: in
     // turbid water the simulator's hovers came out at 0.05-0.56 of their
     // true scale above 10x the tolerance. Below it they may still be far
     // off (BENCHMARKS.md, "Turbid water, measured again").
-    if (moved_mm > 10.0 * within_mm) {
+    if (moved_mm > kFarFromSettled * within_mm) {
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements: their poses "
           "still moved {:.1f} mm rms, more than ten times the {:g} mm they settle within, so the "
           "features are too faint or noisy to hold the scene still (turbid water, a dark "
           "scene); the whole trajectory rests on that start, its scale may be off by tens of "
           "percent and cloud.ply may be no better than cloud_uncompensated.ply (an INS "
-          "trajectory with --poses places the cloud better)",
-          count("start_refinements"), moved_mm, within_mm));
+          "trajectory with --poses places the cloud better){}",
+          count("start_refinements"), moved_mm, within_mm, smaller));
     } else {
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements (their poses still "
           "moved {:.1f} mm rms): the start of the trajectory may be off, and with it the rest "
           "(a sweep too fast or too short for the scene's plane, or features too faint or noisy "
-          "to track: turbid water, a dark scene; --max-init-refinements)",
-          count("start_refinements"), moved_mm));
+          "to track: turbid water, a dark scene; --max-init-refinements){}",
+          count("start_refinements"), moved_mm, smaller));
     }
+  }
+  if (tracking_retried_from_width > 0) {
+    warnings.push_back(fmt::format(
+        "the start had not settled tracking the image at {} px (its poses still moved {:.1f} mm "
+        "rms): the odometry ran again at {} px, which averages more of the sensor's noise, and "
+        "these outputs are that run's (--max-tracking-width {} keeps the first)",
+        tracking_retried_from_width, retried_start_change_mm, tracking_retried_from_width / 2,
+        tracking_retried_from_width));
   }
   if (count("implausible_poses_rejected") > 0) {
     warnings.push_back(std::to_string(count("implausible_poses_rejected")) +
@@ -311,6 +353,8 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"waiting_for_images", seconds_waiting_for_images},
             {"earlier_passes", seconds_earlier_passes}}},
           {"passes", passes},
+          {"tracking_retried_from_width", tracking_retried_from_width},
+          {"retried_start_last_change_mm", retried_start_change_mm},
           {"track_every", track_every},
           {"line_window_px", line_window_px},
           {"frames_line_window_redone", frames_line_window_redone},
