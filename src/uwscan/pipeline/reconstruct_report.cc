@@ -257,25 +257,24 @@ std::vector<std::string> ReconstructReport::Warnings() const {
       pose_details["start_settled"].is_boolean() && !pose_details["start_settled"].get<bool>()) {
     const double moved_mm = pose_details.value("start_last_change_mm", 0.0);
     const double within_mm = pose_details.value("start_settled_within_mm", 2.0);
-    // A smaller tracked image averages more of the sensor's noise in each
-    // KLT window: the simulator's 640x480 hovers in water of c_p 0.7-1.0
-    // tracked at 320 px came out at 0.85-1.07 of their true scale on five
-    // of six, against 0.05-0.56 at 640 (BENCHMARKS.md, "Turbid water,
-    // measured again"). The odometry tracks no image narrower than 320 px.
-    const int tracked_width = count("tracked_image_width");
-    const std::string smaller =
-        tracked_width >= 640
-            ? fmt::format(
-                  "; a smaller tracked image averages more of the sensor's noise: try "
-                  "--max-tracking-width {}",
-                  tracked_width / 2)
-            : "";
     // Far from settled, the held frames' tracks do not hold the scene still
     // (faint, noisy features), and every later pose rests on that start: in
     // turbid water the simulator's hovers came out at 0.05-0.56 of their
     // true scale above 10x the tolerance. Below it they may still be far
     // off (BENCHMARKS.md, "Turbid water, measured again").
     if (moved_mm > kFarFromSettled * within_mm) {
+      // A smaller tracked image averages more of the sensor's noise in each
+      // KLT window: the simulator's 640x480 hovers in water of c_p 0.7-1.0
+      // tracked at 320 px came out at 0.85-1.07 of their true scale on
+      // five of six, against 0.05-0.56 at 640 (RunReconstruct does so by
+      // itself unless --max-tracking-width was given).
+      const std::optional<int> half = SmallerTrackingWidth();
+      const std::string smaller =
+          half ? fmt::format(
+                     "; a smaller tracked image averages more of the sensor's noise: try "
+                     "--max-tracking-width {}",
+                     *half)
+               : "";
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements: their poses "
           "still moved {:.1f} mm rms, more than ten times the {:g} mm they settle within, so the "
@@ -289,8 +288,8 @@ std::vector<std::string> ReconstructReport::Warnings() const {
           "the frames held at the start had not settled after {} refinements (their poses still "
           "moved {:.1f} mm rms): the start of the trajectory may be off, and with it the rest "
           "(a sweep too fast or too short for the scene's plane, or features too faint or noisy "
-          "to track: turbid water, a dark scene; --max-init-refinements){}",
-          count("start_refinements"), moved_mm, smaller));
+          "to track: turbid water, a dark scene; --max-init-refinements)",
+          count("start_refinements"), moved_mm));
     }
   }
   if (tracking_retried_from_width > 0) {
