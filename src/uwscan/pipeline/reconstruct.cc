@@ -222,6 +222,14 @@ std::shared_ptr<const fusion::SimulatorTruth> LoadSimulatorTruth(const fs::path&
   return oracle;
 }
 
+// report.json of a run into job.out.
+void WriteReport(const ReconstructJob& job, const ReconstructReport& report) {
+  nlohmann::json json = report.ToJson();
+  json["dataset"] = fs::absolute(job.dataset).string();
+  json["motion_compensation"] = job.motion_compensation;
+  WriteFileAtomic(job.out / "report.json", json.dump(2) + "\n");
+}
+
 // What the self-referenced odometry of one pass measured, for the next.
 struct MeasuredScene {
   std::shared_ptr<const fusion::SurfaceModel> surface;
@@ -473,10 +481,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   }
   report.seconds = Seconds(start) + report.seconds_earlier_passes;
   if (measured) measured->seconds = report.seconds;
-  nlohmann::json json = report.ToJson();
-  json["dataset"] = fs::absolute(job.dataset).string();
-  json["motion_compensation"] = job.motion_compensation;
-  WriteFileAtomic(job.out / "report.json", json.dump(2) + "\n");
+  WriteReport(job, report);
   return report;
 }
 
@@ -517,9 +522,22 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   if (const std::optional<int> width = report.SmallerTrackingWidth();
       width && job.retry_smaller_tracking) {
     used.self_referenced.max_tracking_width = *width;
+    const MeasuredScene first_measured = measured;
     measured = MeasuredScene();
     const ReconstructReport first = report;
-    report = RunPass(used, nullptr, 1, job.passes, nullptr, measure, &first);
+    try {
+      report = RunPass(used, nullptr, 1, job.passes, nullptr, measure, &first);
+    } catch (const Interrupted&) {
+      throw;
+    } catch (const Error& e) {
+      // Nothing placed on half the image (its outputs were never committed):
+      // the first run's stand, and its report says why there is no second.
+      used = job;
+      measured = first_measured;
+      report = first;
+      report.tracking_retry_failed = e.what();
+      WriteReport(job, report);
+    }
   }
   if (job.passes == 1) return report;
   // Auto: more passes only where the first found a surface in front of the

@@ -194,6 +194,8 @@ struct ReconstructReport {
   // start still moved (mm rms); 0 if none.
   int tracking_retried_from_width = 0;
   double retried_start_change_mm = 0.0;
+  // Why such a second run failed, whose outputs are then the first's.
+  std::string tracking_retry_failed;
   double sequence_duration_s = 0.0;  // from the frame timestamps
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider

@@ -292,6 +292,10 @@ std::vector<std::string> ReconstructReport::Warnings() const {
           count("start_refinements"), moved_mm));
     }
   }
+  if (!tracking_retry_failed.empty()) {
+    warnings.push_back("run again on half the tracked image, the odometry failed (" +
+                       tracking_retry_failed + "): these outputs are the first run's");
+  }
   if (tracking_retried_from_width > 0) {
     warnings.push_back(fmt::format(
         "the start had not settled tracking the image at {} px (its poses still moved {:.1f} mm "
@@ -354,6 +358,7 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"passes", passes},
           {"tracking_retried_from_width", tracking_retried_from_width},
           {"retried_start_last_change_mm", retried_start_change_mm},
+          {"tracking_retry_failed", tracking_retry_failed},
           {"track_every", track_every},
           {"line_window_px", line_window_px},
           {"frames_line_window_redone", frames_line_window_redone},

@@ -635,6 +635,12 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
                    "moved 42.4 mm rms): the odometry ran again at 320 px"));
   EXPECT_EQ(unsettled.ToJson()["tracking_retried_from_width"], 640);
   unsettled.tracking_retried_from_width = 0;
+  unsettled.tracking_retry_failed = "D: no frame got a pose";
+  EXPECT_TRUE(says(unsettled, 1,
+                   "run again on half the tracked image, the odometry failed (D: no frame got "
+                   "a pose): these outputs are the first run's"));
+  EXPECT_EQ(unsettled.ToJson()["tracking_retry_failed"], "D: no frame got a pose");
+  unsettled.tracking_retry_failed.clear();
   unsettled.pose_details["start_settled"] = true;
   EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
   EXPECT_TRUE(unsettled.Warnings().empty());
