@@ -1,0 +1,159 @@
+// The report's warnings: what degraded a reconstruction and why, in words
+// a user can act on (ReconstructReport::Warnings), and report.json.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "uwscan/pipeline/reconstruct.h"
+
+namespace uwscan {
+namespace {
+
+// The report says why a result degraded (turbid water: no line, short
+// profiles, short-lived features, losses), and nothing when all went well.
+TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
+  ReconstructReport good;
+  good.frames = 200;
+  good.frames_with_line = 200;
+  good.points = 200 * 400;
+  good.scan_lines = 480;
+  good.pose_details = {{"tracked", 200}, {"keyframes", 3}, {"lost", 0}};
+  EXPECT_TRUE(good.Warnings().empty());
+
+  ReconstructReport turbid = good;
+  turbid.frames_with_line = 104;
+  turbid.points = 104 * 13;
+  turbid.frames_without_pose = 1;
+  turbid.pose_details = {
+      {"tracked", 199}, {"keyframes", 199}, {"lost", 1}, {"implausible_poses_rejected", 1}};
+  const auto warnings = turbid.Warnings();
+  ASSERT_EQ(warnings.size(), 6u);
+  EXPECT_NE(warnings[0].find("no laser line in 48 %"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[1].find("13 points per frame of 480"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[2].find("1 frame(s)"), std::string::npos) << warnings[2];
+  EXPECT_NE(warnings[3].find("lost 1 time(s)"), std::string::npos) << warnings[3];
+  EXPECT_NE(warnings[4].find("short-lived"), std::string::npos) << warnings[4];
+  EXPECT_NE(warnings[5].find("rejected"), std::string::npos) << warnings[5];
+  const nlohmann::json json = turbid.ToJson();
+  EXPECT_EQ(json["warnings"].size(), 6u);
+
+  // Frames without a pose: held while the odometry waited to start, lost
+  // by it, or outside an external trajectory's times.
+  // Whether warning i of `report` holds `text` (shown if not).
+  const auto says = [](const ReconstructReport& report, size_t i, const std::string& text) {
+    const std::vector<std::string> warnings = report.Warnings();
+    if (i < warnings.size() && warnings[i].find(text) != std::string::npos)
+      return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure()
+           << (i < warnings.size() ? warnings[i] : "no warning " + std::to_string(i));
+  };
+  ReconstructReport partial = good;
+  partial.frames_without_pose = 30;
+  partial.pose_source = "self-referenced visual odometry";
+  ASSERT_EQ(partial.Warnings().size(), 1u);
+  EXPECT_TRUE(says(partial, 0,
+                   "30 frame(s) (15 %) got no pose and are left out of the cloud (tracking lost)"));
+  partial.pose_details["frames_without_pose_at_start"] = 20;
+  ASSERT_EQ(partial.Warnings().size(), 2u);
+  EXPECT_TRUE(
+      says(partial, 0, "20 frame(s) (10 %) got no pose while the odometry waited to start"));
+  EXPECT_EQ(partial.Warnings()[0].find("too narrow"), std::string::npos);
+  EXPECT_TRUE(says(partial, 1,
+                   "10 frame(s) (5 %) got no pose and are left out of the cloud (tracking lost)"));
+  partial.pose_details["frames_without_pose_at_start"] = 30;
+  partial.pose_details["start_attempts_refused"] = 9;
+  ASSERT_EQ(partial.Warnings().size(), 1u);
+  EXPECT_TRUE(says(partial, 0,
+                   "9 start attempt(s) found the held frames' profiles too narrow once tracked"));
+  partial.pose_source = "ins.tum";
+  EXPECT_TRUE(says(partial, 0, "(ins.tum has none at their times)"));
+
+  // Marine snow: the particles the colour test ignored are named, and with
+  // the self-referenced poses in many frames what they do to the odometry.
+  ReconstructReport snowy = good;
+  snowy.frames_with_off_colour = 9;
+  snowy.off_colour_points = 80;
+  snowy.pose_source = "self-referenced visual odometry";
+  ASSERT_EQ(snowy.Warnings().size(), 1u);
+  EXPECT_NE(snowy.Warnings()[0].find("80 candidates"), std::string::npos);
+  EXPECT_EQ(snowy.Warnings()[0].find("scale"), std::string::npos);  // 9 of 200 frames
+  snowy.frames_with_off_colour = 10;
+  EXPECT_NE(snowy.Warnings()[0].find("scale to be off"), std::string::npos);
+  snowy.pose_source = "external trajectory";
+  EXPECT_EQ(snowy.Warnings()[0].find("scale"), std::string::npos);
+
+  // A start that had not settled: a few millimetres off may only bend the
+  // start; ten times the tolerance off, the features did not hold the
+  // scene still and the whole trajectory may be off (turbid water).
+  ReconstructReport unsettled = good;
+  unsettled.pose_details["start_settled"] = false;
+  unsettled.pose_details["start_refinements"] = 3;
+  unsettled.pose_details["start_settled_within_mm"] = 2.0;
+  unsettled.pose_details["start_last_change_mm"] = 19.3;
+  ASSERT_EQ(unsettled.Warnings().size(), 1u);
+  EXPECT_TRUE(says(unsettled, 0, "(their poses still moved 19.3 mm rms): the start of the"));
+  EXPECT_EQ(unsettled.Warnings()[0].find("whole trajectory"), std::string::npos);
+  EXPECT_EQ(unsettled.Warnings()[0].find("--max-tracking-width"), std::string::npos);
+  unsettled.pose_details["start_last_change_mm"] = 22.2;
+  ASSERT_EQ(unsettled.Warnings().size(), 1u);
+  EXPECT_TRUE(says(unsettled, 0, "still moved 22.2 mm rms, more than ten times the 2 mm"));
+  EXPECT_TRUE(says(unsettled, 0, "the whole trajectory rests on that start"));
+  // A tracked image that can still be halved (not below 320 px): say so.
+  EXPECT_EQ(unsettled.Warnings()[0].find("--max-tracking-width"), std::string::npos);
+  unsettled.pose_details["tracked_image_width"] = 640;
+  EXPECT_TRUE(says(unsettled, 0,
+                   "better); a smaller tracked image averages more of the "
+                   "sensor's noise: try --max-tracking-width 320"));
+  unsettled.pose_details["start_last_change_mm"] = 19.3;  // near settled: a sweep, maybe
+  EXPECT_EQ(unsettled.Warnings()[0].find("--max-tracking-width"), std::string::npos);
+  // Far from settled on a tracked image that can be halved: run again on
+  // half of it (not below 320 px).
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);  // 19.3 mm
+  unsettled.pose_details["start_last_change_mm"] = 22.2;
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), 320);
+  unsettled.pose_details["tracked_image_width"] = 1280;
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), 640);
+  unsettled.pose_details["tracked_image_width"] = 480;
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
+  unsettled.tracking_retried_from_width = 640;
+  unsettled.retried_start_change_mm = 42.4;
+  EXPECT_TRUE(says(unsettled, 1,
+                   "the start had not settled tracking the image at 640 px (its poses still "
+                   "moved 42.4 mm rms): the odometry ran again at 320 px"));
+  EXPECT_EQ(unsettled.ToJson()["tracking_retried_from_width"], 640);
+  unsettled.tracking_retried_from_width = 0;
+  unsettled.tracking_retry_failed = "D: no frame got a pose";
+  EXPECT_TRUE(says(unsettled, 1,
+                   "run again on half the tracked image, the odometry failed (D: no frame got "
+                   "a pose): these outputs are the first run's"));
+  EXPECT_EQ(unsettled.ToJson()["tracking_retry_failed"], "D: no frame got a pose");
+  unsettled.tracking_retry_failed.clear();
+  unsettled.pose_details["start_settled"] = true;
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
+  EXPECT_TRUE(unsettled.Warnings().empty());
+
+  // Points whose ray grazes the sheet: a few are stray light, silently
+  // dropped (in report.json); from 1 % of the points on, a warning.
+  ReconstructReport grazing = good;
+  grazing.max_range_error_per_px = 0.05;
+  grazing.grazing_points = grazing.points / 100 - 1;
+  EXPECT_TRUE(grazing.Warnings().empty());
+  EXPECT_EQ(grazing.ToJson()["grazing_points_dropped"], grazing.points / 100 - 1);
+  grazing.grazing_points = grazing.points / 50;
+  ASSERT_EQ(grazing.Warnings().size(), 1u);
+  EXPECT_NE(grazing.Warnings()[0].find("by more than 5 % of their range"), std::string::npos)
+      << grazing.Warnings()[0];
+
+  // No frame placed: the profiles are not short, there are none in the cloud.
+  ReconstructReport unposed = good;
+  unposed.points = 0;
+  unposed.frames_without_pose = 200;
+  const auto unposed_warnings = unposed.Warnings();
+  ASSERT_FALSE(unposed_warnings.empty());
+  for (const auto& w : unposed_warnings)
+    EXPECT_EQ(w.find("profiles are short"), std::string::npos) << w;
+}
+
+}  // namespace
+}  // namespace uwscan
