@@ -118,17 +118,27 @@ namespace {
 // (BENCHMARKS.md, "Turbid water, measured again").
 constexpr double kFarFromSettled = 10.0;
 
-}  // namespace
-
-std::optional<int> ReconstructReport::SmallerTrackingWidth() const {
+// How far the start's poses still moved at its last refinement and the
+// tolerance they settle within (mm rms), if they had not settled.
+struct UnsettledStart {
+  double moved_mm = 0.0, within_mm = 0.0;
+  bool Far() const { return moved_mm > kFarFromSettled * within_mm; }
+};
+std::optional<UnsettledStart> FindUnsettledStart(const nlohmann::json& pose_details) {
   if (!pose_details.is_object()) return std::nullopt;
   const auto settled = pose_details.find("start_settled");
   if (settled == pose_details.end() || !settled->is_boolean() || settled->get<bool>())
     return std::nullopt;
-  const double moved_mm = pose_details.value("start_last_change_mm", 0.0);
-  const double within_mm = pose_details.value("start_settled_within_mm", 2.0);
-  const int half = pose_details.value("tracked_image_width", 0) / 2;
-  if (!(moved_mm > kFarFromSettled * within_mm) || half < 320) return std::nullopt;
+  return UnsettledStart{pose_details.value("start_last_change_mm", 0.0),
+                        pose_details.value("start_settled_within_mm", 2.0)};
+}
+
+}  // namespace
+
+std::optional<int> ReconstructReport::SmallerTrackingWidth() const {
+  const std::optional<UnsettledStart> start = FindUnsettledStart(pose_details);
+  const int half = pose_details.is_object() ? pose_details.value("tracked_image_width", 0) / 2 : 0;
+  if (!start || !start->Far() || half < 320) return std::nullopt;
   return half;
 }
 
@@ -253,16 +263,13 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        "converging: the trajectory depends on the machine's load "
                        "(--ba-time-limit)");
   }
-  if (pose_details.is_object() && pose_details.contains("start_settled") &&
-      pose_details["start_settled"].is_boolean() && !pose_details["start_settled"].get<bool>()) {
-    const double moved_mm = pose_details.value("start_last_change_mm", 0.0);
-    const double within_mm = pose_details.value("start_settled_within_mm", 2.0);
+  if (const std::optional<UnsettledStart> start = FindUnsettledStart(pose_details)) {
     // Far from settled, the held frames' tracks do not hold the scene still
     // (faint, noisy features), and every later pose rests on that start: in
     // turbid water the simulator's hovers came out at 0.05-0.56 of their
     // true scale above 10x the tolerance. Below it they may still be far
     // off (BENCHMARKS.md, "Turbid water, measured again").
-    if (moved_mm > kFarFromSettled * within_mm) {
+    if (start->Far()) {
       // A smaller tracked image averages more of the sensor's noise in each
       // KLT window: the simulator's 640x480 hovers in water of c_p 0.7-1.0
       // tracked at 320 px came out at 0.85-1.07 of their true scale on
@@ -282,14 +289,14 @@ std::vector<std::string> ReconstructReport::Warnings() const {
           "scene); the whole trajectory rests on that start, its scale may be off by tens of "
           "percent and cloud.ply may be no better than cloud_uncompensated.ply (an INS "
           "trajectory with --poses places the cloud better){}",
-          count("start_refinements"), moved_mm, within_mm, smaller));
+          count("start_refinements"), start->moved_mm, start->within_mm, smaller));
     } else {
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements (their poses still "
           "moved {:.1f} mm rms): the start of the trajectory may be off, and with it the rest "
           "(a sweep too fast or too short for the scene's plane, or features too faint or noisy "
           "to track: turbid water, a dark scene; --max-init-refinements)",
-          count("start_refinements"), moved_mm));
+          count("start_refinements"), start->moved_mm));
     }
   }
   if (!tracking_retry_failed.empty()) {
