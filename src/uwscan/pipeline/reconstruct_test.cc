@@ -5,11 +5,14 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include "uwscan/eval/trajectory_metrics.h"
 #include "uwscan/io/ply.h"
@@ -495,6 +498,49 @@ TEST(ReconstructTurbid, AStartThatDoesNotSettleRunsAgainOnHalfTheImage) {
   EXPECT_EQ(json["tracking_retried_from_width"], 640);
   EXPECT_LT(std::abs(again_scale - 1.0), 0.5 * std::abs(once_scale - 1.0));
   EXPECT_LT(std::abs(again_scale - 1.0), 0.25);
+
+  // If the second run fails outright (here its last frame is damaged once
+  // the first run has committed its outputs), the first run's outputs
+  // stand and the report says why.
+  job.out = root / "failed";
+  job.retry_smaller_tracking = true;
+  const fs::path last_frame = job.dataset / "frames" / "000099.png";
+  std::atomic<bool> done = false, damaged = false;
+  std::thread damage([&] {
+    while (!done && !fs::exists(job.out / "report.json"))
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (done) return;
+    fs::resize_file(last_frame, fs::file_size(last_frame) / 2);
+    damaged = true;
+  });
+  ReconstructReport failed;
+  try {
+    failed = RunReconstruct(job);
+  } catch (...) {
+    done = true;
+    damage.join();
+    throw;
+  }
+  done = true;
+  damage.join();
+  ASSERT_TRUE(damaged);
+  EXPECT_NE(failed.tracking_retry_failed.find("000099.png"), std::string::npos)
+      << failed.tracking_retry_failed;
+  EXPECT_EQ(failed.tracking_retried_from_width, 0);
+  EXPECT_EQ(failed.pose_details.value("tracked_image_width", 0), 640);
+  const auto read = [](const fs::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  EXPECT_EQ(read(job.out / "trajectory.tum"), read(root / "once" / "trajectory.tum"));
+  const nlohmann::json failed_json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
+  EXPECT_EQ(failed_json["tracking_retry_failed"], failed.tracking_retry_failed);
+  const auto failed_warnings = failed.Warnings();
+  EXPECT_TRUE(std::any_of(failed_warnings.begin(), failed_warnings.end(), [](const std::string& w) {
+    return w.find("these outputs are the first run's") != std::string::npos;
+  }));
+  for (const auto& entry : fs::directory_iterator(job.out))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
   fs::remove_all(root);
 }
 
