@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -16,6 +17,25 @@ std::string FrameFileName(int index) { return fmt::format("frames/{:06d}.png", i
 double MeanFrameInterval(const std::vector<FrameRecord>& frames) {
   if (frames.size() < 2) return 0.0;
   return (frames.back().timestamp_s - frames.front().timestamp_s) / (frames.size() - 1);
+}
+
+FrameGaps FindFrameGaps(const std::vector<FrameRecord>& frames) {
+  FrameGaps found;
+  if (frames.size() < 3) return found;
+  std::vector<double> steps;
+  for (size_t i = 1; i < frames.size(); ++i)
+    steps.push_back(frames[i].timestamp_s - frames[i - 1].timestamp_s);
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (!(median > 0)) return found;
+  for (double step : steps) {
+    if (!(step > 1.5 * median)) continue;
+    ++found.gaps;
+    found.missing += std::max(1, static_cast<int>(std::lround(step / median)) - 1);
+    found.longest_s = std::max(found.longest_s, step);
+  }
+  return found;
 }
 
 std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {

@@ -31,6 +31,16 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path);
 // Mean time between frames (s); 0 for fewer than two frames.
 double MeanFrameInterval(const std::vector<FrameRecord>& frames);
 
+// Frames a camera or its recorder dropped: each step between consecutive
+// timestamps longer than 1.5 times the median step is a gap, of
+// round(step / median) - 1 missing frames (at least one).
+struct FrameGaps {
+  int gaps = 0;
+  int missing = 0;
+  double longest_s = 0.0;  // the longest such step
+};
+FrameGaps FindFrameGaps(const std::vector<FrameRecord>& frames);
+
 class FramesCsvWriter {
  public:
   FramesCsvWriter(const std::filesystem::path& path, bool with_laser_angle,

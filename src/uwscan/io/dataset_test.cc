@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -81,6 +82,30 @@ TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
             std::string::npos);
   EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,inf\n").find("finite"),
             std::string::npos);
+}
+
+// A 144 Hz sequence with the timestamps' jitter of a real recorder
+// (+-10 % of a frame) and frames 10 and 20-22 dropped: two gaps, four
+// frames, the longest four frame intervals.
+TEST(FrameGapsTest, CountsTheFramesTheRecorderDropped) {
+  const double dt = 1.0 / 144.0;
+  std::vector<FrameRecord> all, dropped;
+  for (int i = 0; i < 60; ++i) {
+    FrameRecord record;
+    record.index = i;
+    record.timestamp_s = i * dt + 0.1 * dt * std::sin(1.7 * i);
+    all.push_back(record);
+    if (i != 10 && (i < 20 || i > 22)) dropped.push_back(record);
+  }
+  const FrameGaps none = FindFrameGaps(all);
+  EXPECT_EQ(none.gaps, 0);
+  EXPECT_EQ(none.missing, 0);
+  const FrameGaps gaps = FindFrameGaps(dropped);
+  EXPECT_EQ(gaps.gaps, 2);
+  EXPECT_EQ(gaps.missing, 4);
+  EXPECT_NEAR(gaps.longest_s, 4 * dt, 0.25 * dt);
+  EXPECT_EQ(FindFrameGaps({}).missing, 0);
+  EXPECT_EQ(FindFrameGaps(std::vector<FrameRecord>(all.begin(), all.begin() + 2)).missing, 0);
 }
 
 }  // namespace

@@ -328,6 +328,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   report.sequence_duration_s =
       frames.size() > 1 ? frames.back().timestamp_s - frames.front().timestamp_s + frame_interval
                         : 0.0;
+  report.frame_gaps = FindFrameGaps(frames);
   long total_frames = static_cast<long>(frames.size());
   for (const auto& other : others) total_frames += static_cast<long>(other.frames.size());
   std::string label = "reconstruct";

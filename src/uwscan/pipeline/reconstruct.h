@@ -197,6 +197,7 @@ struct ReconstructReport {
   // Why such a second run failed, whose outputs are then the first's.
   std::string tracking_retry_failed;
   double sequence_duration_s = 0.0;  // from the frame timestamps
+  FrameGaps frame_gaps;              // frames the camera or its recorder dropped (frames.csv)
   std::string pose_source;
   nlohmann::json pose_details;  // statistics of the pose provider
   std::vector<CameraReport> other_cameras;

@@ -153,6 +153,14 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the frames with the laser on (turbid or dark water, the line out "
                        "of view or too weak): those frames add nothing to the cloud");
   }
+  if (frame_gaps.missing > 0) {
+    warnings.push_back(fmt::format(
+        "{} frame(s) missing from the sequence ({} gap(s) in frames.csv's timestamps, the longest "
+        "{:.0f} ms): the camera or its recorder dropped them; the cloud has no profiles there, "
+        "and the odometry tracks across each gap (more motion between its frames: a long gap "
+        "may lose the tracks)",
+        frame_gaps.missing, frame_gaps.gaps, 1e3 * frame_gaps.longest_s));
+  }
   long main_points = points;  // the main camera's, placed: of frames with a pose
   for (const auto& camera : other_cameras) main_points -= camera.points;
   const int placed_frames = frames_with_line - frames_without_pose;
@@ -371,6 +379,9 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"frames_line_window_redone", frames_line_window_redone},
           {"async_bundle_adjustment", async_bundle_adjustment},
           {"sequence_duration_s", sequence_duration_s},
+          {"frames_missing", frame_gaps.missing},
+          {"frame_gaps", frame_gaps.gaps},
+          {"longest_frame_gap_s", frame_gaps.longest_s},
           {"real_time_factor", RealTimeFactor()}};
 }
 

@@ -37,6 +37,15 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   EXPECT_NE(warnings[5].find("rejected"), std::string::npos) << warnings[5];
   const nlohmann::json json = turbid.ToJson();
   EXPECT_EQ(json["warnings"].size(), 6u);
+  ReconstructReport dropped = good;
+  dropped.frame_gaps = {2, 5, 4.0 / 144.0};
+  ASSERT_EQ(dropped.Warnings().size(), 1u);
+  EXPECT_NE(dropped.Warnings()[0].find(
+                "5 frame(s) missing from the sequence (2 gap(s) in frames.csv's timestamps, the "
+                "longest 28 ms)"),
+            std::string::npos)
+      << dropped.Warnings()[0];
+  EXPECT_EQ(dropped.ToJson()["frames_missing"], 5);
 
   // Frames without a pose: held while the odometry waited to start, lost
   // by it, or outside an external trajectory's times.

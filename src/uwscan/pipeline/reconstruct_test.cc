@@ -82,6 +82,42 @@ TEST_F(ReconstructTest, TruePosesGiveMillimetreCloud) {
   // Without compensation the hovering motion shows.
   EXPECT_GT(evaluation.uncompensated.point_error_rms_m,
             2.0 * evaluation.compensated.point_error_rms_m);
+  EXPECT_EQ(report.frame_gaps.missing, 0);
+}
+
+// Frames a recorder dropped (rows missing from frames.csv) are counted
+// from the timestamps and said; the frames left are placed as before.
+TEST_F(ReconstructTest, DroppedFramesAreCountedAndSaid) {
+  const fs::path dataset = root_ / "dropped";
+  fs::copy(root_ / "data", dataset, fs::copy_options::recursive);
+  std::vector<std::string> rows;
+  {
+    std::ifstream in(root_ / "data" / "frames.csv");
+    for (std::string line; std::getline(in, line);) rows.push_back(line);
+  }
+  {
+    std::ofstream out(dataset / "frames.csv");
+    for (size_t row = 0; row < rows.size(); ++row) {
+      const int index = static_cast<int>(row) - 1;  // the header is row 0
+      if (index != 8 && index != 15 && index != 16) out << rows[row] << "\n";
+    }
+  }
+  ReconstructJob job;
+  job.dataset = dataset;
+  job.out = root_ / "out_dropped";
+  job.poses_file = dataset / "groundtruth.tum";
+  job.quiet = true;
+  const ReconstructReport report = RunReconstruct(job);
+  EXPECT_EQ(report.frames, 21);
+  EXPECT_EQ(report.frame_gaps.gaps, 2);
+  EXPECT_EQ(report.frame_gaps.missing, 3);
+  EXPECT_GT(report.points, 21 * 120);
+  const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
+  EXPECT_EQ(json["frames_missing"], 3);
+  bool said = false;
+  for (const auto& warning : json["warnings"])
+    said = said || warning.get<std::string>().find("3 frame(s) missing") != std::string::npos;
+  EXPECT_TRUE(said) << json["warnings"].dump();
 }
 
 // Each frame's line searched only near the frame before's (the default,
