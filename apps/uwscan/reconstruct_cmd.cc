@@ -55,6 +55,13 @@ void RegisterReconstructCommand(CLI::App& app) {
       ->required();
   cmd->add_option("--out", *out, "output folder")->required();
   cmd->add_option("--poses", *poses, "external trajectory (TUM, world_from_camera) instead of VO");
+  cmd->add_option("--poses-time-offset", job->poses_time_offset_s,
+                  "seconds added to the --poses file's timestamps to put them on the camera's "
+                  "clock (an INS logging on its own clock)");
+  auto body_from_camera = std::make_shared<std::string>();
+  cmd->add_option("--poses-body-from-camera", *body_from_camera,
+                  "the --poses file gives a body's poses (an INS's), not the camera's: the "
+                  "camera's pose in that body's frame, tx,ty,tz,qx,qy,qz,qw (metres; TUM's order)");
   cmd->add_flag("--no-motion-compensation", *no_compensation,
                 "place every profile with the first pose (cloud.ply too)");
   cmd->add_option("--camera", job->camera_name,
@@ -168,6 +175,8 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->dataset = *dataset;
     job->out = *out;
     if (!poses->empty()) job->poses_file = *poses;
+    if (!body_from_camera->empty())
+      job->poses_body_from_camera = ParseBodyFromCamera(*body_from_camera);
     job->motion_compensation = !*no_compensation;
     job->texture_filter = !*keep_static;
     job->epipolar_texture = !*no_epipolar;

@@ -1,5 +1,7 @@
 #include "uwscan/pipeline/reconstruct.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -280,8 +282,22 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
           : std::vector<OtherCamera>{};
 
   if (!provider && job.poses_file) {
-    provider = std::make_unique<fusion::TrajectoryPoseProvider>(ReadTum(*job.poses_file),
-                                                                job.poses_file->string());
+    std::vector<StampedPose> poses = ReadTum(*job.poses_file);
+    std::string name = job.poses_file->string();
+    if (job.poses_time_offset_s != 0.0 || job.poses_body_from_camera) {
+      for (StampedPose& pose : poses) {
+        pose.timestamp_s += job.poses_time_offset_s;
+        if (job.poses_body_from_camera)
+          pose.world_from_camera = pose.world_from_camera * *job.poses_body_from_camera;
+      }
+      std::string how;
+      if (job.poses_time_offset_s != 0.0)
+        how = fmt::format("times {:+.6g} s", job.poses_time_offset_s);
+      if (job.poses_body_from_camera)
+        how += std::string(how.empty() ? "" : "; ") + "the camera in its body's frame";
+      name += " (" + how + ")";
+    }
+    provider = std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name);
   }
   const fusion::SelfReferencedPoseProvider* self_referenced = nullptr;
   if (!provider) {

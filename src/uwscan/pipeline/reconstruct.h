@@ -22,6 +22,11 @@ struct ReconstructJob {
   std::filesystem::path dataset;
   std::filesystem::path out;
   std::optional<std::filesystem::path> poses_file;  // external trajectory (TUM) instead of VO
+  // A poses_file on another clock or of another body (an INS's): the pose
+  // it stamps t is the camera's at t + poses_time_offset_s, and
+  // world_from_camera = its pose * poses_body_from_camera.
+  double poses_time_offset_s = 0.0;
+  std::optional<Rigid3d> poses_body_from_camera;
   bool motion_compensation = true;  // false: cloud.ply too is placed with the first pose
   std::string camera_name;          // default: the first camera
   std::string laser_name;           // default: the first laser
@@ -220,6 +225,9 @@ struct ReconstructReport {
   nlohmann::json ToJson() const;
 };
 
+// --poses-body-from-camera's value: "tx,ty,tz,qx,qy,qz,qw" (TUM's order),
+// a unit quaternion (to 1e-3; normalised); else a UsageError.
+Rigid3d ParseBodyFromCamera(const std::string& value);
 // --track-every's value: "auto" (0) or a count >= 1; else a UsageError.
 int ParseTrackEvery(const std::string& value);
 // --contrast-scale's value: "auto" (unset) or a fraction in [0, 0.5]; else

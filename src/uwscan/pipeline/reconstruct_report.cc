@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -53,6 +54,12 @@ void ReconstructJob::Check() const {
   if (passes > 1 && poses_file)
     throw UsageError("--passes " + std::to_string(passes) +
                      " and --poses exclude each other (the passes are the odometry's)");
+  if (!std::isfinite(poses_time_offset_s))
+    throw UsageError("--poses-time-offset must be a finite number of seconds");
+  if ((poses_time_offset_s != 0.0 || poses_body_from_camera) && !poses_file)
+    throw UsageError(std::string(poses_time_offset_s != 0.0 ? "--poses-time-offset"
+                                                            : "--poses-body-from-camera") +
+                     " needs --poses (it says how to read that trajectory)");
   if ((oracle_depths || oracle_tracks) && poses_file)
     throw UsageError(std::string(oracle_depths ? "--oracle-depths" : "--oracle-tracks") +
                      " and --poses exclude each other (the oracle feeds the odometry, which "
@@ -78,6 +85,27 @@ bool ReadWhole(const std::string& text, T* value) {
 }
 
 }  // namespace
+
+Rigid3d ParseBodyFromCamera(const std::string& value) {
+  std::vector<double> numbers;
+  std::string field;
+  std::istringstream split(value);
+  bool readable = true;
+  while (std::getline(split, field, ',')) {
+    double number = 0.0;
+    readable = readable && ReadWhole(field, &number) && std::isfinite(number);
+    numbers.push_back(number);
+  }
+  if (!readable || numbers.size() != 7 || value.back() == ',')
+    throw UsageError("--poses-body-from-camera must be seven numbers tx,ty,tz,qx,qy,qz,qw, got '" +
+                     value + "'");
+  const Eigen::Quaterniond q(numbers[6], numbers[3], numbers[4], numbers[5]);
+  if (!(std::abs(q.norm() - 1.0) <= 1e-3))
+    throw UsageError(
+        "--poses-body-from-camera: qx,qy,qz,qw must be a unit quaternion, its norm is " +
+        std::to_string(q.norm()));
+  return Rigid3d(q.normalized(), Eigen::Vector3d(numbers[0], numbers[1], numbers[2]));
+}
 
 int ParseTrackEvery(const std::string& value) {
   if (value == "auto") return 0;

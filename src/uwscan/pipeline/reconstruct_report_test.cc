@@ -1,11 +1,14 @@
 // The report's warnings: what degraded a reconstruction and why, in words
-// a user can act on (ReconstructReport::Warnings), and report.json.
+// a user can act on (ReconstructReport::Warnings), and report.json; the
+// job's checks of how to read an external trajectory.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
@@ -162,6 +165,36 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   ASSERT_FALSE(unposed_warnings.empty());
   for (const auto& w : unposed_warnings)
     EXPECT_EQ(w.find("profiles are short"), std::string::npos) << w;
+}
+
+// --poses-body-from-camera: seven numbers in TUM's order, a unit quaternion.
+TEST(ReconstructJobTest, PosesOfAnotherBodyAndClockAreReadOrRefused) {
+  const Rigid3d pose = ParseBodyFromCamera("0.3,-0.1,0.2,0,0,0.7071068,0.7071068");
+  EXPECT_NEAR((pose.translation - Eigen::Vector3d(0.3, -0.1, 0.2)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((pose.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 0.0,
+              1e-6);  // 90 deg about z
+  for (const std::string bad : {"", "1,2,3", "0,0,0,0,0,0,1,", "0,0,0,0,0,0,x", "0,0,0,0,0,0,1,0",
+                                "0,0,0,0,0,0,nan", "0,0,0,0,0,0,2"})
+    EXPECT_THROW(ParseBodyFromCamera(bad), UsageError) << bad;
+  try {
+    ParseBodyFromCamera("0,0,0,0,0,0,2");
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("unit quaternion, its norm is 2"), std::string::npos)
+        << e.what();
+  }
+  ReconstructJob job;
+  job.dataset = "D";
+  job.out = "O";
+  job.poses_time_offset_s = 0.5;
+  EXPECT_THROW(job.Check(), UsageError);  // without --poses
+  job.poses_file = "ins.tum";
+  EXPECT_NO_THROW(job.Check());
+  job.poses_time_offset_s = std::nan("");
+  EXPECT_THROW(job.Check(), UsageError);
+  job.poses_time_offset_s = 0.0;
+  job.poses_body_from_camera = Rigid3d();
+  job.poses_file.reset();
+  EXPECT_THROW(job.Check(), UsageError);
 }
 
 }  // namespace

@@ -1,0 +1,142 @@
+// Scans with more than one camera or more than one pass of the
+// odometry: the two-pod vehicle of §6.5 and a shaft in front of a hull.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "uwscan/io/ply.h"
+#include "uwscan/pipeline/evaluate_reconstruction.h"
+#include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/pipeline/testing.h"
+#include "uwscan/sim/simulate.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+namespace {
+namespace fs = std::filesystem;
+using namespace pipeline_testing;
+
+// The two-pod vehicle of §6.5: camera 1 (images in DATA/cam1/) uses the
+// laser of pod 0 and its profiles join the cloud, placed with camera 0's
+// poses through the rig. They land on the true floor and target, and they
+// reach beyond where camera 0's line sweeps.
+TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
+  const fs::path root = TempFolder("two_pods");
+  sim::ScenarioOptions options = ScanOptions(480, 360, 20, 35);
+  options.pods = 2;
+  ReconstructJob job = SimulatedJob(root, "tank-target", options);
+  ASSERT_TRUE(fs::exists(root / "data" / "cam1" / "frames.csv"));
+  job.poses_file = job.dataset / "groundtruth.tum";
+  job.out = root / "both";
+  const ReconstructReport report = RunReconstruct(job);
+  ASSERT_EQ(report.other_cameras.size(), 1u);
+  const CameraReport& second = report.other_cameras.front();
+  EXPECT_EQ(second.name, "cam1");
+  EXPECT_EQ(second.laser, "laser1");
+  EXPECT_EQ(second.frames, 20);
+  EXPECT_EQ(second.frames_without_pose, 0);
+  EXPECT_GT(second.points, 20 * 100);
+  EXPECT_TRUE(fs::exists(job.out / "trajectory_cam1.tum"));
+
+  // Independently of the evaluation: the true world is the floor (z = 0)
+  // and the target (z = 5 mm) here, the poses being the true ones.
+  double max_x[2] = {-1e9, -1e9};
+  long on_scene[2] = {0, 0}, count[2] = {0, 0};
+  for (const CloudPoint& point : ReadPly(job.out / "cloud.ply")) {
+    const int camera = point.frame >= 20;
+    ++count[camera];
+    const double z = point.position.z();
+    on_scene[camera] += std::min(std::abs(z), std::abs(z - 0.005)) < 0.005;
+    max_x[camera] = std::max(max_x[camera], point.position.x());
+  }
+  EXPECT_EQ(count[1], second.points);
+  EXPECT_GT(on_scene[0], 0.97 * count[0]);
+  EXPECT_GT(on_scene[1], 0.97 * count[1]);
+  EXPECT_GT(max_x[1], max_x[0] + 0.1);
+  const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+  EXPECT_GT(evaluation.compensated.matched, report.points * 95 / 100);
+  EXPECT_LT(evaluation.compensated.point_error_rms_m, 0.002);
+  EXPECT_GT(evaluation.uncompensated.point_error_rms_m,
+            2.0 * evaluation.compensated.point_error_rms_m);
+
+  job.out = root / "main_only";
+  job.other_cameras = false;
+  const ReconstructReport main_only = RunReconstruct(job);
+  EXPECT_TRUE(main_only.other_cameras.empty());
+  EXPECT_EQ(main_only.points, report.points - second.points);
+  // Camera 1 named on the top folder: its images are elsewhere.
+  job.camera_name = "cam1";
+  job.out = root / "wrong_camera";
+  try {
+    RunReconstruct(job);
+    ADD_FAILURE() << "camera 1 on the top folder: no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("for camera 'cam1' alone give --dataset " +
+                                         (job.dataset / "cam1").string()),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(job.out));
+  fs::remove_all(root);
+}
+
+// A hull with a propeller shaft in front of it (§6.5), scanned while the
+// platform moves along: the laser reaches the shaft late in the scan, so a
+// single pass gives the shaft's features the hull's depth, 0.7 m too far,
+// until then. The first pass finds the surface in front, so by default two
+// more run, each from its first frame on the surface the pass before
+// measured over the whole scan; the shaft's cylinder then fits better than
+// with the INS-like trajectory, as the issue asks (coastal water, 640x480).
+// The second pass starts from the first pass's misplaced shaft, the third
+// from the second pass's own profiles; whether two passes already suffice
+// varies from seed to seed (on this one: 1.89 mm when the test was written,
+// 0.72 mm since tracks start from their predicted positions), the third
+// brings the shaft to the floor of the method either way.
+TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
+  const fs::path root = TempFolder("passes");
+  sim::ScenarioOptions options = ScanOptions(640, 480, 120, 73);
+  ReconstructJob job = SimulatedJob(root, "hull", options);
+  const auto shaft_residual = [&job](const ReconstructReport& report) {
+    const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+    const SurfaceAccuracy* shaft = evaluation.compensated.Surface("shaft");
+    EXPECT_NE(shaft, nullptr);
+    EXPECT_GT(report.points, 10000);
+    return shaft ? shaft->robust_fit_rms_m : 1e9;
+  };
+  const auto run = [&](const std::string& name, int passes) {
+    job.out = root / name;
+    job.passes = passes;
+    return RunReconstruct(job);
+  };
+  const ReconstructReport automatic = run("auto", 0);
+  EXPECT_EQ(automatic.passes, 3);
+  EXPECT_GT(automatic.seconds_earlier_passes, 0.0);
+  EXPECT_GT(automatic.seconds, automatic.seconds_earlier_passes);
+  const double three_passes = shaft_residual(automatic);
+  const ReconstructReport two = run("two", 2);
+  EXPECT_EQ(two.passes, 2);
+  const double two_passes = shaft_residual(two);
+  const ReconstructReport one = run("one", 1);
+  EXPECT_EQ(one.passes, 1);
+  const double one_pass = shaft_residual(one);
+  job.poses_file = job.dataset / "ins.tum";
+  const double ins = shaft_residual(run("ins", 0));
+  std::printf(
+      "shaft cylinder residual: three passes %.2f mm, two %.2f mm, one %.2f mm, INS %.2f mm\n",
+      three_passes * 1e3, two_passes * 1e3, one_pass * 1e3, ins * 1e3);
+  EXPECT_LT(three_passes, 0.5 * ins);
+  EXPECT_LT(three_passes, 0.2 * one_pass);
+  EXPECT_LT(three_passes, two_passes);
+  // 0.36-0.38 mm here (the 31 hull sequences of BENCHMARKS.md: 0.35-0.63 mm,
+  // median 0.46, but 1.26 on coastal seed 79); a third pass on the second's
+  // surface mixed with the first's (the odometry's own) gave 0.65 mm.
+  EXPECT_LT(three_passes, 0.5e-3);
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace uwscan
