@@ -96,7 +96,7 @@ Rigid3d ParseBodyFromCamera(const std::string& value) {
     readable = readable && ReadWhole(field, &number) && std::isfinite(number);
     numbers.push_back(number);
   }
-  if (!readable || numbers.size() != 7 || value.back() == ',')
+  if (!readable || numbers.size() != 7 || value.empty() || value.back() == ',')
     throw UsageError("--poses-body-from-camera must be seven numbers tx,ty,tz,qx,qy,qz,qw, got '" +
                      value + "'");
   const Eigen::Quaterniond q(numbers[6], numbers[3], numbers[4], numbers[5]);
