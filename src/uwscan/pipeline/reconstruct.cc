@@ -533,41 +533,42 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   MeasuredScene* measure = job.passes == 1 ? nullptr : &measured;
   ReconstructReport report = RunPass(job, nullptr, 1, job.passes, nullptr, measure);
   out.Keep();  // the first pass's outputs stand
-  // Its start did not hold the scene still: once more on a smaller tracked
-  // image, whose outputs replace the first attempt's.
-  ReconstructJob used = job;
-  if (const std::optional<int> width = report.SmallerTrackingWidth();
-      width && job.retry_smaller_tracking) {
-    used.self_referenced.max_tracking_width = *width;
-    const MeasuredScene first_measured = measured;
-    measured = MeasuredScene();
-    const ReconstructReport first = report;
-    try {
-      report = RunPass(used, nullptr, 1, job.passes, nullptr, measure, &first);
-    } catch (const Interrupted&) {
-      throw;
-    } catch (const Error& e) {
-      // Nothing placed on half the image (its outputs were never committed):
-      // the first run's stand, and its report says why there is no second.
-      used = job;
-      measured = first_measured;
-      report = first;
-      report.tracking_retry_failed = e.what();
-      WriteReport(job, report);
-    }
-  }
-  if (job.passes == 1) return report;
   // Auto: more passes only where the first found a surface in front of the
   // scene's main one, whose depths the features had to guess until the
   // laser reached it.
-  if (!measured.surface || (job.passes == 0 && !measured.surface->HasFrontSurface())) return report;
-  const int passes = job.passes == 0 ? ReconstructJob::kMaxPasses : job.passes;
-  for (int pass = 2; pass <= passes; ++pass) {
-    MeasuredScene next;
-    report = RunPass(used, nullptr, pass, passes, &measured, pass < passes ? &next : nullptr);
-    measured = std::move(next);
+  if (job.passes != 1 && measured.surface &&
+      (job.passes > 1 || measured.surface->HasFrontSurface())) {
+    const int passes = job.passes == 0 ? ReconstructJob::kMaxPasses : job.passes;
+    for (int pass = 2; pass <= passes; ++pass) {
+      MeasuredScene next;
+      report = RunPass(job, nullptr, pass, passes, &measured, pass < passes ? &next : nullptr);
+      measured = std::move(next);
+    }
+    return report;
   }
-  return report;
+  // The first pass is the last, and its start did not hold the scene
+  // still: once more on a smaller tracked image, whose outputs replace the
+  // first attempt's. (Where more passes follow, they start again on the
+  // surface the first measured over the whole scan, and a hull's shaft
+  // needs the full image: on the simulator's hulls, whose first start
+  // often moves a few centimetres, half the image made the shaft worse on
+  // 7 of 10; BENCHMARKS.md, "The run on half the image and the hulls".)
+  const std::optional<int> width = report.SmallerTrackingWidth();
+  if (!width || !job.retry_smaller_tracking) return report;
+  ReconstructJob smaller = job;
+  smaller.self_referenced.max_tracking_width = *width;
+  const ReconstructReport first = report;
+  try {
+    return RunPass(smaller, nullptr, 1, job.passes, nullptr, nullptr, &first);
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const Error& e) {
+    // Nothing placed on half the image (its outputs were never committed):
+    // the first run's stand, and its report says why there is no second.
+    report.tracking_retry_failed = e.what();
+    WriteReport(job, report);
+    return report;
+  }
 }
 
 }  // namespace uwscan

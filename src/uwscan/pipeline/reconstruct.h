@@ -113,8 +113,9 @@ struct ReconstructJob {
   // (faint, noisy features: turbid water) on a tracked image 640 px wide
   // or more is run again tracking half of it, which averages more of the
   // sensor's noise in each KLT window (ReconstructReport::
-  // SmallerTrackingWidth; BENCHMARKS.md, "Turbid water, measured again").
-  // The CLI turns it off when --max-tracking-width is given.
+  // SmallerTrackingWidth; BENCHMARKS.md, "Turbid water, measured again"),
+  // if no more passes follow (a hull's shaft needs the full image). The
+  // CLI turns it off when --max-tracking-width is given.
   bool retry_smaller_tracking = true;
   // The odometry tracks every Nth frame once running and places the frames
   // between between them (SelfReferencedOptions::track_every, which this

@@ -135,6 +135,20 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   // median 0.46, but 1.26 on coastal seed 79); a third pass on the second's
   // surface mixed with the first's (the odometry's own) gave 0.65 mm.
   EXPECT_LT(three_passes, 0.5e-3);
+
+  // A first start far from settled (here by a tolerance tightened
+  // twentyfold) runs again on half the image where the first pass is the
+  // last, not where more passes follow: they start on the surface the first
+  // measured over the whole scan, and the shaft needs the full image.
+  job.poses_file.reset();
+  job.self_referenced.init_settled_m = 0.0001;
+  const ReconstructReport tight_one = run("tight_one", 1);
+  EXPECT_EQ(tight_one.tracking_retried_from_width, 640);
+  EXPECT_EQ(tight_one.pose_details.value("tracked_image_width", 0), 320);
+  const ReconstructReport tight_auto = run("tight_auto", 0);
+  EXPECT_EQ(tight_auto.passes, 3);
+  EXPECT_EQ(tight_auto.tracking_retried_from_width, 0);
+  EXPECT_EQ(tight_auto.pose_details.value("tracked_image_width", 0), 640);
   fs::remove_all(root);
 }
 
