@@ -552,7 +552,8 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   // surface the first measured over the whole scan, and a hull's shaft
   // needs the full image: on the simulator's hulls, whose first start
   // often moves a few centimetres, half the image made the shaft worse on
-  // 7 of 10; BENCHMARKS.md, "The run on half the image and the hulls".)
+  // 4 of the 5 it took; BENCHMARKS.md, "The run on half the image and the
+  // hulls".)
   const std::optional<int> width = report.SmallerTrackingWidth();
   if (!width || !job.retry_smaller_tracking) return report;
   ReconstructJob smaller = job;
