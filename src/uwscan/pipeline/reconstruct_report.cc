@@ -320,11 +320,12 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                : "";
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements: their poses "
-          "still moved {:.1f} mm rms, more than ten times the {:g} mm they settle within, so the "
-          "features are too faint or noisy to hold the scene still (turbid water, a dark "
-          "scene); the whole trajectory rests on that start, its scale may be off by tens of "
-          "percent and cloud.ply may be no better than cloud_uncompensated.ply (an INS "
-          "trajectory with --poses places the cloud better){}",
+          "still moved {:.1f} mm rms, more than ten times the {:g} mm they settle within: the "
+          "features did not hold the scene still (too faint or noisy: turbid water, a dark "
+          "scene; or the platform moved far while the frames were held); the whole trajectory "
+          "rests on that start, its scale may be off by tens of percent and cloud.ply may be "
+          "no better than cloud_uncompensated.ply (an INS trajectory with --poses places the "
+          "cloud better){}",
           count("start_refinements"), start->moved_mm, start->within_mm, smaller));
     } else {
       warnings.push_back(fmt::format(
