@@ -9,6 +9,7 @@
 
 #include "uwscan/util/csv.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/statistics.h"
 
 namespace uwscan {
 
@@ -25,9 +26,7 @@ FrameGaps FindFrameGaps(const std::vector<FrameRecord>& frames) {
   std::vector<double> steps;
   for (size_t i = 1; i < frames.size(); ++i)
     steps.push_back(frames[i].timestamp_s - frames[i - 1].timestamp_s);
-  std::vector<double> sorted = steps;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const double median = Median(steps);
   if (!(median > 0)) return found;
   for (double step : steps) {
     if (!(step > 1.5 * median)) continue;

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
-#include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -87,24 +87,19 @@ bool ReadWhole(const std::string& text, T* value) {
 }  // namespace
 
 Rigid3d ParseBodyFromCamera(const std::string& value) {
-  std::vector<double> numbers;
-  std::string field;
-  std::istringstream split(value);
-  bool readable = true;
-  while (std::getline(split, field, ',')) {
-    double number = 0.0;
-    readable = readable && ReadWhole(field, &number) && std::isfinite(number);
-    numbers.push_back(number);
-  }
-  if (!readable || numbers.size() != 7 || value.empty() || value.back() == ',')
+  double n[7];
+  char tail = 0;
+  if (std::sscanf(value.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf%c", &n[0], &n[1], &n[2], &n[3], &n[4],
+                  &n[5], &n[6], &tail) != 7 ||
+      !std::all_of(std::begin(n), std::end(n), [](double x) { return std::isfinite(x); }))
     throw UsageError("--poses-body-from-camera must be seven numbers tx,ty,tz,qx,qy,qz,qw, got '" +
                      value + "'");
-  const Eigen::Quaterniond q(numbers[6], numbers[3], numbers[4], numbers[5]);
+  const Eigen::Quaterniond q(n[6], n[3], n[4], n[5]);
   if (!(std::abs(q.norm() - 1.0) <= 1e-3))
     throw UsageError(
         "--poses-body-from-camera: qx,qy,qz,qw must be a unit quaternion, its norm is " +
         std::to_string(q.norm()));
-  return Rigid3d(q.normalized(), Eigen::Vector3d(numbers[0], numbers[1], numbers[2]));
+  return Rigid3d(q.normalized(), Eigen::Vector3d(n[0], n[1], n[2]));
 }
 
 int ParseTrackEvery(const std::string& value) {

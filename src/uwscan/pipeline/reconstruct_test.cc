@@ -196,11 +196,8 @@ TEST_F(ReconstructTest, LineWindowFindsTheLineAsWholeScanLinesDo) {
       EXPECT_GT(reports[0].frames_line_window_redone, 0);
       EXPECT_EQ(reports[0].points, reports[1].points);
       std::vector<std::string> clouds;
-      for (const int window : {48, 0}) {
-        std::ifstream in(root_ / ("out_window" + std::to_string(window)) / "cloud.ply",
-                         std::ios::binary);
-        clouds.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-      }
+      for (const int window : {48, 0})
+        clouds.push_back(FileBytes(root_ / ("out_window" + std::to_string(window)) / "cloud.ply"));
       EXPECT_TRUE(clouds[0] == clouds[1]);
     }
   }
@@ -265,8 +262,7 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
     EXPECT_EQ(report.track_every, 2);             // auto at 144 Hz
     EXPECT_EQ(report.contrast_scale, 0.0);        // auto on a servo sweep
     EXPECT_TRUE(report.async_bundle_adjustment);  // auto at 144 Hz: reproducible all the same
-    std::ifstream in(job.out / "trajectory.tum");
-    trajectories.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    trajectories.push_back(FileBytes(job.out / "trajectory.tum"));
     for (int i = 0; i < 1000; ++i) clutter.emplace_back(new char[size_t(16 + 97 * i % 4096)]);
   }
   ASSERT_GT(std::count(trajectories[0].begin(), trajectories[0].end(), '\n'), 20);
@@ -491,11 +487,7 @@ TEST(ReconstructTurbid, AStartThatDoesNotSettleRunsAgainOnHalfTheImage) {
       << failed.tracking_retry_failed;
   EXPECT_EQ(failed.tracking_retried_from_width, 0);
   EXPECT_EQ(failed.pose_details.value("tracked_image_width", 0), 640);
-  const auto read = [](const fs::path& path) {
-    std::ifstream in(path);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  };
-  EXPECT_EQ(read(job.out / "trajectory.tum"), read(root / "once" / "trajectory.tum"));
+  EXPECT_EQ(FileBytes(job.out / "trajectory.tum"), FileBytes(root / "once" / "trajectory.tum"));
   const nlohmann::json failed_json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
   EXPECT_EQ(failed_json["tracking_retry_failed"], failed.tracking_retry_failed);
   const auto failed_warnings = failed.Warnings();

@@ -6,6 +6,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "uwscan/pipeline/reconstruct.h"
@@ -22,6 +24,12 @@ inline sim::ScenarioOptions ScanOptions(int width, int height, int frames, uint6
   options.frames = frames;
   options.seed = seed;
   return options;
+}
+
+// A file's bytes, to compare outputs byte for byte ("" if it cannot be read).
+inline std::string FileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 // An empty temporary folder of this test process.
