@@ -225,6 +225,28 @@ std::shared_ptr<const fusion::SimulatorTruth> LoadSimulatorTruth(const fs::path&
 }
 
 // report.json of a run into job.out.
+// --poses: the camera's poses from the external trajectory, put on the
+// camera's clock and moved from the body it logs (an INS's) to the camera;
+// the name says how it was read.
+std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job) {
+  std::vector<StampedPose> poses = ReadTum(*job.poses_file);
+  std::string name = job.poses_file->string();
+  if (job.poses_time_offset_s != 0.0 || job.poses_body_from_camera) {
+    for (StampedPose& pose : poses) {
+      pose.timestamp_s += job.poses_time_offset_s;
+      if (job.poses_body_from_camera)
+        pose.world_from_camera = pose.world_from_camera * *job.poses_body_from_camera;
+    }
+    std::string how;
+    if (job.poses_time_offset_s != 0.0)
+      how = fmt::format("times {:+.6g} s", job.poses_time_offset_s);
+    if (job.poses_body_from_camera)
+      how += std::string(how.empty() ? "" : "; ") + "the camera in its body's frame";
+    name += " (" + how + ")";
+  }
+  return std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name);
+}
+
 void WriteReport(const ReconstructJob& job, const ReconstructReport& report) {
   nlohmann::json json = report.ToJson();
   json["dataset"] = fs::absolute(job.dataset).string();
@@ -281,24 +303,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
           ? FindOtherCameras(job.dataset, rig, 0, job.max_frames)
           : std::vector<OtherCamera>{};
 
-  if (!provider && job.poses_file) {
-    std::vector<StampedPose> poses = ReadTum(*job.poses_file);
-    std::string name = job.poses_file->string();
-    if (job.poses_time_offset_s != 0.0 || job.poses_body_from_camera) {
-      for (StampedPose& pose : poses) {
-        pose.timestamp_s += job.poses_time_offset_s;
-        if (job.poses_body_from_camera)
-          pose.world_from_camera = pose.world_from_camera * *job.poses_body_from_camera;
-      }
-      std::string how;
-      if (job.poses_time_offset_s != 0.0)
-        how = fmt::format("times {:+.6g} s", job.poses_time_offset_s);
-      if (job.poses_body_from_camera)
-        how += std::string(how.empty() ? "" : "; ") + "the camera in its body's frame";
-      name += " (" + how + ")";
-    }
-    provider = std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name);
-  }
+  if (!provider && job.poses_file) provider = ExternalPoses(job);
   const fusion::SelfReferencedPoseProvider* self_referenced = nullptr;
   if (!provider) {
     fusion::SelfReferencedOptions options = job.self_referenced;
