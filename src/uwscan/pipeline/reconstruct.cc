@@ -224,7 +224,6 @@ std::shared_ptr<const fusion::SimulatorTruth> LoadSimulatorTruth(const fs::path&
   return oracle;
 }
 
-// report.json of a run into job.out.
 // --poses: the camera's poses from the external trajectory, put on the
 // camera's clock and moved from the body it logs (an INS's) to the camera;
 // the name says how it was read.
@@ -247,6 +246,7 @@ std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job) {
   return std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name);
 }
 
+// report.json of a run into job.out.
 void WriteReport(const ReconstructJob& job, const ReconstructReport& report) {
   nlohmann::json json = report.ToJson();
   json["dataset"] = fs::absolute(job.dataset).string();
