@@ -60,6 +60,10 @@ void RunDemo(const DemoArgs& args) {
       "2. reconstructed %ld points from %d frames (%d without pose) in %.1f s, poses from %s\n",
       report.points, report.frames, report.frames_without_pose, report.seconds,
       report.pose_source.c_str());
+  // What degraded it, as reconstruct says (a size or setting the scene's
+  // light levels were not made for shows here).
+  for (const std::string& warning : report.Warnings())
+    std::printf("   warning: %s\n", warning.c_str());
 
   const ReconstructionEvaluation evaluation = EvaluateReconstruction(dataset, job.out);
   const SurfaceAccuracy* compensated = evaluation.compensated.Surface("checkerboard");

@@ -59,6 +59,15 @@ std::string ClippedSceneWarning(int frames_clipped, double share) {
       frames_clipped, 100.0 * kClippedFrameShare, 100.0 * share);
 }
 
+std::string ClippedFeaturesWarning(int frames_clipped, double share, const std::string& colour) {
+  return fmt::format(
+      "in {} frame(s) the features' colour ({}, lit by the floods) is at full scale on {:.0f} % "
+      "or more of the image ({:.1f} % over all frames): the odometry finds no texture to track "
+      "where it is, and the poses suffer; lower the camera's exposure or gain, or the floods' "
+      "power",
+      frames_clipped, colour, 100.0 * kClippedFeaturesFrameShare, 100.0 * share);
+}
+
 ClippedScene MeasureClipping(const cv::Mat& image, ColourLayout layout, int laser_channel,
                              bool scan_rows, const std::vector<LaserPoint>& line, int every_rows,
                              double margin_px) {

@@ -21,6 +21,16 @@ constexpr double kClippedFramesToWarn = 0.1;
 // clipped: `frames_clipped` of them, and the share of all samples clipped.
 std::string ClippedSceneWarning(int frames_clipped, double share);
 
+// The features' colour (the floods', which the self-referenced odometry
+// tracks beside the laser's): a frame with this share of it at full scale
+// has lost the texture there. A light's hot spot on something close clips a
+// little in many scans; this much is an exposure set too high.
+constexpr double kClippedFeaturesFrameShare = 0.05;
+// What reconstruct says when kClippedFramesToWarn of the frames or more
+// have: `frames_clipped` of them, the share of all samples clipped, and
+// the colour's name.
+std::string ClippedFeaturesWarning(int frames_clipped, double share, const std::string& colour);
+
 struct ClippedScene {
   long clipped = 0;   // samples at full scale
   long examined = 0;  // samples looked at

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/image.h"
 #include "uwscan/laser/clipping.h"
 #include "uwscan/pipeline/laser_detect.h"
@@ -111,6 +112,19 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     report_->clipping_samples_examined += clipped.examined;
     ++report_->frames_clipping_examined;
     report_->frames_with_clipped_scene += clipped.Share() >= laser::kClippedFrameShare;
+    // The features' colour (a mono camera's is the laser's, above).
+    const laser::ColourLayout layout = laser::LayoutFor(camera_.bayer, image.channels());
+    if (layout != laser::ColourLayout::kMono) {
+      const int colour = fusion::SelfReferencedPoseProvider::PassiveColour(detector_.laser_channel);
+      const laser::ClippedScene features =
+          laser::MeasureClipping(image, layout, colour, detector_.scan_rows, detection->points);
+      report_->features_clipped_samples += features.clipped;
+      report_->features_clipping_samples_examined += features.examined;
+      ++report_->frames_features_clipping_examined;
+      report_->frames_with_clipped_features +=
+          features.Share() >= laser::kClippedFeaturesFrameShare;
+      report_->features_colour = laser::ChannelName(colour);
+    }
   } else {
     ++report_->frames_laser_off;
     dark_image_ = image;

@@ -77,9 +77,13 @@ TEST(ReconstructInterleaved, DifferenceImagesIgnoreAPaintedStripe) {
   EXPECT_EQ(report.frames_with_line, 11);
   EXPECT_GT(report.points, 11 * 150);
   // At most the note that static candidates (the target's edges, which
-  // moved a little between the two frames) were ignored.
+  // moved a little between the two frames) were ignored, and that the red
+  // clips (at 480x360 a pixel gathers 7 times the light of the thesis
+  // camera's, and the stripe is white).
   for (const std::string& warning : report.Warnings()) {
-    EXPECT_NE(warning.find("stayed put"), std::string::npos) << warning;
+    EXPECT_TRUE(warning.find("stayed put") != std::string::npos ||
+                warning.find("the features' colour (red, lit by the floods)") != std::string::npos)
+        << warning;
   }
   const auto with_difference = EvaluateReconstruction(job.dataset, job.out);
   EXPECT_LT(with_difference.compensated.point_error_rms_m, 0.003);
@@ -103,8 +107,10 @@ TEST(ReconstructSweepFilter, StaticCandidatesOfAPaintedStripeAreIgnored) {
   job.out = root / "filtered";
   const ReconstructReport report = RunReconstruct(job);
   EXPECT_GT(report.frames_with_static_detections, 20);
-  ASSERT_FALSE(report.Warnings().empty());
-  EXPECT_NE(report.Warnings().back().find("stayed put"), std::string::npos);
+  const std::vector<std::string> warnings = report.Warnings();
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+    return w.find("stayed put") != std::string::npos;
+  }));
   const auto filtered = EvaluateReconstruction(job.dataset, job.out);
   EXPECT_LT(filtered.compensated.point_error_rms_m, 0.003);
   EXPECT_GT(report.points, 40 * 150);

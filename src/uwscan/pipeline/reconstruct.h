@@ -180,6 +180,15 @@ struct ReconstructReport {
   long clipping_samples_examined = 0;
   int frames_clipping_examined = 0;
   int frames_with_clipped_scene = 0;
+  // The same in the features' colour, the one the self-referenced odometry
+  // tracks (fusion::SelfReferencedPoseProvider::PassiveColour; colour
+  // cameras only), and the frames with at least
+  // laser::kClippedFeaturesFrameShare of it: the texture is lost there.
+  long features_clipped_samples = 0;
+  long features_clipping_samples_examined = 0;
+  int frames_features_clipping_examined = 0;
+  int frames_with_clipped_features = 0;
+  std::string features_colour;           // its name ("red"); empty: not measured
   int frames_sweep_filter_restored = 0;  // nearly the whole line would have gone: kept
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
@@ -213,6 +222,11 @@ struct ReconstructReport {
   double ClippedSceneShare() const {
     return clipping_samples_examined > 0
                ? static_cast<double>(clipped_samples) / clipping_samples_examined
+               : 0.0;
+  }
+  double ClippedFeaturesShare() const {
+    return features_clipping_samples_examined > 0
+               ? static_cast<double>(features_clipped_samples) / features_clipping_samples_examined
                : 0.0;
   }
   // What degraded the result and why, for the user (also in report.json):

@@ -260,6 +260,12 @@ std::vector<std::string> ReconstructReport::Warnings() const {
       frames_with_clipped_scene >= laser::kClippedFramesToWarn * frames_clipping_examined) {
     warnings.push_back(laser::ClippedSceneWarning(frames_with_clipped_scene, ClippedSceneShare()));
   }
+  if (frames_features_clipping_examined > 0 &&
+      frames_with_clipped_features >=
+          laser::kClippedFramesToWarn * frames_features_clipping_examined) {
+    warnings.push_back(laser::ClippedFeaturesWarning(frames_with_clipped_features,
+                                                     ClippedFeaturesShare(), features_colour));
+  }
   if (frames_with_off_colour > 0) {
     std::string warning =
         "in " + std::to_string(frames_with_off_colour) + " frame(s) bright spots beside the line " +
@@ -383,6 +389,9 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"frames_sweep_filter_restored", frames_sweep_filter_restored},
           {"frames_with_clipped_scene", frames_with_clipped_scene},
           {"clipped_scene_share", ClippedSceneShare()},
+          {"frames_with_clipped_features", frames_with_clipped_features},
+          {"clipped_features_share", ClippedFeaturesShare()},
+          {"features_colour", features_colour},
           {"pose_source", pose_source},
           {"pose", pose_details},
           {"other_cameras", cameras},

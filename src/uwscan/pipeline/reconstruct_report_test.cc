@@ -95,6 +95,25 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   snowy.pose_source = "external trajectory";
   EXPECT_EQ(snowy.Warnings()[0].find("scale"), std::string::npos);
 
+  // An exposure that clips the features' colour: on a tenth of the frames
+  // examined or more, each with 5 % of that colour at full scale.
+  ReconstructReport bright = good;
+  bright.frames_features_clipping_examined = 200;
+  bright.frames_with_clipped_features = 19;
+  bright.features_clipped_samples = 1200;
+  bright.features_clipping_samples_examined = 48000;
+  bright.features_colour = "red";
+  EXPECT_TRUE(bright.Warnings().empty());
+  bright.frames_with_clipped_features = 20;
+  ASSERT_EQ(bright.Warnings().size(), 1u);
+  EXPECT_TRUE(says(bright, 0,
+                   "in 20 frame(s) the features' colour (red, lit by the floods) is at full "
+                   "scale on 5 % or more of the image (2.5 % over all frames)"));
+  EXPECT_TRUE(says(bright, 0, "lower the camera's exposure or gain"));
+  EXPECT_EQ(bright.ToJson()["frames_with_clipped_features"], 20);
+  EXPECT_DOUBLE_EQ(bright.ToJson()["clipped_features_share"].get<double>(), 0.025);
+  EXPECT_EQ(bright.ToJson()["features_colour"], "red");
+
   // A start that had not settled: a few millimetres off may only bend the
   // start; ten times the tolerance off, the features did not hold the
   // scene still and the whole trajectory may be off (turbid water).

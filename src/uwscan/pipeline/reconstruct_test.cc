@@ -511,6 +511,9 @@ TEST(ReconstructClipping, AMonoCameraAtAColourCamerasExposureSaysTheSceneClips) 
   const ReconstructReport report = RunReconstruct(job);
   EXPECT_EQ(report.frames_clipping_examined, 12);
   EXPECT_GE(report.frames_with_clipped_scene, 6);
+  // A mono camera's features are in the laser's colour: measured once, above.
+  EXPECT_EQ(report.frames_features_clipping_examined, 0);
+  EXPECT_EQ(report.features_colour, "");
   EXPECT_GT(report.clipped_samples, report.clipping_samples_examined / 100);
   const std::vector<std::string> warnings = report.Warnings();
   EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
@@ -520,6 +523,45 @@ TEST(ReconstructClipping, AMonoCameraAtAColourCamerasExposureSaysTheSceneClips) 
   const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
   EXPECT_EQ(json["frames_with_clipped_scene"], report.frames_with_clipped_scene);
   EXPECT_GT(json["clipped_scene_share"].get<double>(), 0.01);
+  fs::remove_all(root);
+}
+
+// The simulator's pixels grow with a smaller image on the same sensor, so
+// at a quarter of the thesis camera's width and its gain each pixel gathers
+// 16 times the light: the red LED's colour, which the odometry tracks,
+// clips on much of the image and the report says so. At a quarter of the
+// gain it does not.
+TEST(ReconstructClipping, AnExposureThatClipsTheFeaturesColourIsReported) {
+  const fs::path root = TempFolder("reconstruct_clipped_features");
+  const auto run = [&](double gain) {
+    sim::ScenarioOptions options = ScanOptions(320, 240, 12, 23);
+    options.gain = gain;
+    ReconstructJob job =
+        SimulatedJobOnTruePoses(root / std::to_string(int(gain)), "tank-target", options);
+    job.out = root / ("out" + std::to_string(int(gain)));
+    return RunReconstruct(job);
+  };
+  const ReconstructReport bright = run(4.0);
+  EXPECT_EQ(bright.features_colour, "red");
+  EXPECT_EQ(bright.frames_features_clipping_examined, 12);
+  EXPECT_EQ(bright.frames_with_clipped_features, 12);
+  EXPECT_GT(bright.ClippedFeaturesShare(), 0.2);
+  const std::vector<std::string> warnings = bright.Warnings();
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+    return w.find("the features' colour (red, lit by the floods) is at full scale") !=
+               std::string::npos &&
+           w.find("lower the camera's exposure or gain") != std::string::npos;
+  }));
+  const nlohmann::json json = nlohmann::json::parse(std::ifstream(root / "out4" / "report.json"));
+  EXPECT_EQ(json["frames_with_clipped_features"], 12);
+  EXPECT_EQ(json["features_colour"], "red");
+
+  const ReconstructReport dim = run(1.0);
+  EXPECT_EQ(dim.frames_features_clipping_examined, 12);
+  EXPECT_EQ(dim.frames_with_clipped_features, 0);
+  EXPECT_LT(dim.ClippedFeaturesShare(), 0.05);
+  for (const std::string& w : dim.Warnings())
+    EXPECT_EQ(w.find("features' colour"), std::string::npos) << w;
   fs::remove_all(root);
 }
 

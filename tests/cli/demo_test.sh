@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# CLI: uwscan demo (the README's first command) on a short, small scan, its
+# figures against `uwscan evaluate --result` and the simulator's truth, and
+# its usage errors.
+set -u
+bin="$1"
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# 60 frames at 320x240: seconds, not the default's minute. At this size
+# each pixel of the simulated sensor gathers 16 times the light it does at
+# the thesis camera's 1280x960, so the red LED's colour clips and the demo
+# passes on the reconstruction's warning.
+"$bin" demo --frames 60 --width 320 --height 240 --quiet --out "$dir/demo" >"$dir/out" 2>"$dir/err" \
+  || fail "demo: $(cat "$dir/err")"
+for f in dataset/groundtruth.tum dataset/scene.yaml result/cloud.ply result/cloud_uncompensated.ply \
+  result/trajectory.tum result/report.json; do
+  [ -s "$dir/demo/$f" ] || fail "demo did not write $f"
+done
+grep -q "^1\. simulated 60 frames in [0-9.]* s -> $dir/demo/dataset$" "$dir/out" \
+  || fail "no simulation line: $(cat "$dir/out")"
+grep -q "^2\. reconstructed [0-9]* points from 60 frames (0 without pose) in [0-9.]* s, poses from self-referenced visual odometry$" \
+  "$dir/out" || fail "no reconstruction line: $(cat "$dir/out")"
+grep -q "^   warning: in [0-9]* frame(s) the features' colour (red, lit by the floods) is at full scale" \
+  "$dir/out" || fail "the over-exposure warning is not shown: $(cat "$dir/out")"
+grep -q "^cloud: $dir/demo/result/cloud.ply (open with CloudCompare, MeshLab or Open3D)$" "$dir/out" \
+  || fail "does not say where the cloud is"
+
+# The demo's point errors are evaluate's, and the compensated cloud is
+# within millimetres of the true scene where the uncompensated one is not.
+read -r demo_comp demo_unc < <(sed -n 's/^   point error (all surfaces) \([0-9.]*\) mm vs \([0-9.]*\) mm$/\1 \2/p' "$dir/out")
+[ -n "${demo_comp:-}" ] || fail "no point error line: $(cat "$dir/out")"
+"$bin" evaluate --dataset "$dir/demo/dataset" --result "$dir/demo/result" --json "$dir/e.json" \
+  >"$dir/eval" || fail "evaluate --result"
+grep -q "^compensated      floor " "$dir/eval" || fail "evaluate: no floor row: $(cat "$dir/eval")"
+grep -q "^uncompensated    (all) " "$dir/eval" || fail "evaluate: no uncompensated row"
+grep -q "Sim(3) scale" "$dir/eval" || fail "evaluate: no trajectory figures"
+comp=$(python3 -c "import json; print(json.load(open('$dir/e.json'))['compensated']['point_error_rms_mm'])")
+unc=$(python3 -c "import json; print(json.load(open('$dir/e.json'))['uncompensated']['point_error_rms_mm'])")
+awk -v d="$demo_comp" -v e="$comp" 'BEGIN { exit !(d - e < 0.051 && e - d < 0.051) }' \
+  || fail "demo says $demo_comp mm, evaluate $comp mm"
+awk -v d="$demo_unc" -v e="$unc" 'BEGIN { exit !(d - e < 0.051 && e - d < 0.051) }' \
+  || fail "demo says $demo_unc mm uncompensated, evaluate $unc mm"
+awk -v c="$comp" -v u="$unc" 'BEGIN { exit !(c < 5 && 3 * c < u) }' \
+  || fail "compensated $comp mm against uncompensated $unc mm"
+
+# Again into the same folder: the dataset is replaced, not refused.
+"$bin" demo --frames 20 --width 320 --height 240 --quiet --out "$dir/demo" >"$dir/out2" 2>"$dir/err" \
+  || fail "demo into its own folder again: $(cat "$dir/err")"
+grep -q "^1\. simulated 20 frames" "$dir/out2" || fail "second demo did not simulate again"
+[ "$(grep -vc '^#' "$dir/demo/dataset/groundtruth.tum")" -eq 20 ] || fail "dataset not replaced"
+
+# Usage errors: exit 2, nothing written; an output that cannot be a folder:
+# exit 1, named.
+"$bin" demo --frames 5 --out "$dir/few" >/dev/null 2>"$dir/err"
+[ $? -eq 2 ] || fail "--frames 5: want exit 2"
+grep -q -- "--frames must be >= 20" "$dir/err" || fail "--frames 5: unclear error"
+[ ! -e "$dir/few" ] || fail "--frames 5 wrote output"
+touch "$dir/file"
+"$bin" demo --frames 20 --width 320 --height 240 --quiet --out "$dir/file" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] || fail "--out a file: want exit 1"
+grep -q "$dir/file: cannot create the output folder" "$dir/err" || fail "--out a file: unclear error"
+"$bin" evaluate --dataset "$dir/demo/dataset" --result "$dir/none" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] || fail "evaluate --result on no folder: want exit 1"
+grep -q "$dir/none" "$dir/err" || fail "evaluate --result on no folder: does not name it"
+exit 0
