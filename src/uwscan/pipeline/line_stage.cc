@@ -105,15 +105,14 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     report_->frames_sweep_filter_restored += detection->stats.exclusion_restored;
     // In the raw image: a difference image cancels the clipped scene, not
     // the line hidden in it.
-    const laser::ClippedScene clipped =
-        laser::MeasureClipping(image, laser::LayoutFor(camera_.bayer, image.channels()),
-                               detector_.laser_channel, detector_.scan_rows, detection->points);
+    const laser::ColourLayout layout = laser::LayoutFor(camera_.bayer, image.channels());
+    const laser::ClippedScene clipped = laser::MeasureClipping(
+        image, layout, detector_.laser_channel, detector_.scan_rows, detection->points);
     report_->clipped_samples += clipped.clipped;
     report_->clipping_samples_examined += clipped.examined;
     ++report_->frames_clipping_examined;
     report_->frames_with_clipped_scene += clipped.Share() >= laser::kClippedFrameShare;
     // The features' colour (a mono camera's is the laser's, above).
-    const laser::ColourLayout layout = laser::LayoutFor(camera_.bayer, image.channels());
     if (layout != laser::ColourLayout::kMono) {
       const int colour = fusion::SelfReferencedPoseProvider::PassiveColour(detector_.laser_channel);
       const laser::ClippedScene features =
