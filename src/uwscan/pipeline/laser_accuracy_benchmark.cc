@@ -112,12 +112,19 @@ std::string LaserAccuracyToMarkdown(const std::vector<LaserAccuracyRow>& rows) {
   out << "| water | LED | method | RMS (px) | completeness | outliers | detections | profile RMS "
          "(mm) |\n"
       << "|---|---|---|---|---|---|---|---|\n";
+  // An RMS over no detections is not 0: "-".
+  const auto rms = [](bool any, double value) {
+    char cell[32] = "-";
+    if (any) std::snprintf(cell, sizeof(cell), "%.3f", value);
+    return std::string(cell);
+  };
   char line[256];
   for (const auto& r : rows) {
-    std::snprintf(line, sizeof(line), "| %s | %s | %s | %.3f | %.1f %% | %.2f %% | %ld | %.3f |\n",
-                  r.turbidity.c_str(), r.led ? "on" : "off", r.method.c_str(), r.accuracy.Rms(),
+    std::snprintf(line, sizeof(line), "| %s | %s | %s | %s | %.1f %% | %.2f %% | %ld | %s |\n",
+                  r.turbidity.c_str(), r.led ? "on" : "off", r.method.c_str(),
+                  rms(r.accuracy.found > 0, r.accuracy.Rms()).c_str(),
                   100.0 * r.accuracy.Completeness(), 100.0 * r.accuracy.OutlierRate(),
-                  r.accuracy.detections, r.profile_rms_m * 1e3);
+                  r.accuracy.detections, rms(r.profile_points > 0, r.profile_rms_m * 1e3).c_str());
     out << line;
   }
   return out.str();
