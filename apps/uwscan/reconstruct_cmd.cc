@@ -1,6 +1,7 @@
 // uwscan reconstruct: the self-referenced scan of a dataset.
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <string>
 
 #include "commands.h"
@@ -13,9 +14,12 @@ namespace {
 
 // " in three passes ..." for the summary line; nothing for one pass.
 std::string PassesNote(int passes, bool automatic) {
+  static const char* const kCounts[] = {"two", "three", "four", "five", "six"};
   if (passes <= 1) return "";
-  return std::string(" in ") + (passes == 2 ? "two" : "three") + " passes" +
-         (automatic ? " (a surface in front of the main one)" : "");
+  const std::string count = passes - 2 < static_cast<int>(std::size(kCounts))
+                                ? kCounts[passes - 2]
+                                : std::to_string(passes);
+  return " in " + count + " passes" + (automatic ? " (a surface in front of the main one)" : "");
 }
 
 // ", tracking every 2nd frame" for the summary line; nothing for every frame.
@@ -156,11 +160,12 @@ void RegisterReconstructCommand(CLI::App& app) {
       "the odometry's windowed BA on a second thread, its result joining the map 8 tracked "
       "frames later; by default above 100 Hz (the scan keeps up with the camera)");
   cmd->add_option("--passes", *passes,
-                  "passes of the odometry over the frames (1-3): in a later one the features take "
+                  "passes of the odometry over the frames (1-6): in a later one the features take "
                   "their depths from the surface the pass before measured over the whole scan "
                   "(each pass the time of the first; for a surface in front of the main one, "
-                  "e.g. a shaft before a hull); auto: three passes when the first found such a "
-                  "surface, else one")
+                  "e.g. a shaft before a hull); auto: when the first found such a surface, three "
+                  "and more until the trajectory settles (moves by less than 2 mm and 0.05 deg "
+                  "rms; at most 6), else one")
       ->capture_default_str();
   cmd->add_flag("--oracle-depths", job->oracle_depths,
                 "diagnostics on simulated datasets: the odometry's features take their depth "
@@ -191,10 +196,12 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->other_cameras = !*main_camera_only;
     if (*passes == "auto") {
       job->passes = 0;
-    } else if (*passes == "1" || *passes == "2" || *passes == "3") {
-      job->passes = std::stoi(*passes);
+    } else if (passes->size() == 1 && *passes >= "1" &&
+               (*passes)[0] - '0' <= ReconstructJob::kMaxPasses) {
+      job->passes = (*passes)[0] - '0';
     } else {
-      throw UsageError("--passes must be auto, 1, 2 or 3, got '" + *passes + "'");
+      throw UsageError("--passes must be auto or 1 to " +
+                       std::to_string(ReconstructJob::kMaxPasses) + ", got '" + *passes + "'");
     }
     job->track_every = ParseTrackEvery(*track_every);
     job->retry_smaller_tracking = tracking_width->count() == 0;

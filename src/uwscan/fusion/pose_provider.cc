@@ -1,6 +1,7 @@
 #include "uwscan/fusion/pose_provider.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "uwscan/util/error.h"
 
@@ -26,6 +27,22 @@ std::optional<Rigid3d> InterpolatePose(const std::vector<StampedPose>& poses, do
   const double w = span > 0 ? (t - a.timestamp_s) / span : 0.0;
   return Rigid3d(a.world_from_camera.rotation.slerp(w, b.world_from_camera.rotation),
                  (1.0 - w) * a.world_from_camera.translation + w * b.world_from_camera.translation);
+}
+
+std::optional<PoseChange> RmsPoseChange(const std::vector<std::optional<Rigid3d>>& before,
+                                        const std::vector<std::optional<Rigid3d>>& after) {
+  double moved = 0.0, turned = 0.0;
+  int count = 0;
+  for (size_t i = 0; i < std::min(before.size(), after.size()); ++i) {
+    if (!before[i] || !after[i]) continue;
+    const Rigid3d change = before[i]->Inverse() * *after[i];
+    moved += change.translation.squaredNorm();
+    const double angle = Eigen::AngleAxisd(change.rotation).angle();
+    turned += angle * angle;
+    ++count;
+  }
+  if (count == 0) return std::nullopt;
+  return PoseChange{std::sqrt(moved / count), std::sqrt(turned / count) * 180.0 / M_PI};
 }
 
 TrajectoryPoseProvider::TrajectoryPoseProvider(std::vector<StampedPose> poses, std::string name,

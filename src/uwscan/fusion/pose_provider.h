@@ -86,4 +86,14 @@ class TrajectoryPoseProvider : public PoseProvider {
 std::optional<Rigid3d> InterpolatePose(const std::vector<StampedPose>& poses, double timestamp_s,
                                        double max_extrapolation_s);
 
+// How far a set of poses moved between two estimates, rms over the poses:
+// the camera's displacement and its turn.
+struct PoseChange {
+  double moved_m = 0.0, turned_deg = 0.0;
+};
+// The rms change of the poses both lists have (at the same positions);
+// none if they share none.
+std::optional<PoseChange> RmsPoseChange(const std::vector<std::optional<Rigid3d>>& before,
+                                        const std::vector<std::optional<Rigid3d>>& after);
+
 }  // namespace uwscan::fusion

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace uwscan::fusion {
 namespace {
@@ -19,6 +20,28 @@ TEST(PoseProvider, InterpolatesBetweenPoses) {
   EXPECT_FALSE(InterpolatePose(poses, 1.2, 0.05).has_value());
   EXPECT_TRUE(InterpolatePose(poses, 1.04, 0.05).has_value());
   EXPECT_FALSE(InterpolatePose({}, 0.0, 0.05).has_value());
+}
+
+// The rms change of the poses two estimates share, in the camera's frame:
+// a pose turned about its own centre moves 0 m; a pose moved 3 mm in one
+// of two frames moves sqrt(3^2 / 2) mm rms; frames one estimate lacks
+// do not count.
+TEST(PoseProvider, RmsPoseChangeOverTheSharedPoses) {
+  const Rigid3d a(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY())),
+                  Eigen::Vector3d(1, 2, 3));
+  const Rigid3d turned(a.rotation * Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitX()),
+                       a.translation);
+  const Rigid3d moved(a.rotation, a.translation + a.rotation * Eigen::Vector3d(0, 0.003, 0));
+  const auto same = RmsPoseChange({a, a}, {a, a});
+  ASSERT_TRUE(same.has_value());
+  EXPECT_EQ(same->moved_m, 0.0);
+  EXPECT_EQ(same->turned_deg, 0.0);
+  const auto change = RmsPoseChange({a, a, a, std::nullopt}, {turned, moved, std::nullopt, a});
+  ASSERT_TRUE(change.has_value());
+  EXPECT_NEAR(change->moved_m, 0.003 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(change->turned_deg, 0.01 * 180.0 / M_PI / std::sqrt(2.0), 1e-9);
+  EXPECT_FALSE(RmsPoseChange({a, std::nullopt}, {std::nullopt, a}).has_value());
+  EXPECT_FALSE(RmsPoseChange({}, {a}).has_value());
 }
 
 }  // namespace

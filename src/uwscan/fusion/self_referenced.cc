@@ -189,31 +189,6 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::AddFrame(const FrameInput& f
   return updates;
 }
 
-namespace {
-
-struct PoseChange {
-  double moved_m = 0.0, turned_deg = 0.0;
-};
-
-// The rms change of the poses both lists have; none if they share none.
-std::optional<PoseChange> RmsPoseChange(const std::vector<std::optional<Rigid3d>>& before,
-                                        const std::vector<std::optional<Rigid3d>>& after) {
-  double moved = 0.0, turned = 0.0;
-  int count = 0;
-  for (size_t i = 0; i < std::min(before.size(), after.size()); ++i) {
-    if (!before[i] || !after[i]) continue;
-    const Rigid3d change = before[i]->Inverse() * *after[i];
-    moved += change.translation.squaredNorm();
-    const double angle = Eigen::AngleAxisd(change.rotation).angle();
-    turned += angle * angle;
-    ++count;
-  }
-  if (count == 0) return std::nullopt;
-  return PoseChange{std::sqrt(moved / count), std::sqrt(turned / count) * 180.0 / M_PI};
-}
-
-}  // namespace
-
 std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // The held frames' profiles, placed with the first held frame's pose (or
   // where an earlier attempt tracked them): the platform moves while they

@@ -258,13 +258,29 @@ void WriteReport(const ReconstructJob& job, const ReconstructReport& report) {
 struct MeasuredScene {
   std::shared_ptr<const fusion::SurfaceModel> surface;
   int first_frame = -1;
-  double seconds = 0.0;  // of this pass and those before it
+  double seconds = 0.0;                     // of this pass and those before it
+  std::map<int, Rigid3d> poses;             // world_from_camera by frame index
+  std::vector<fusion::PoseChange> changes;  // of this pass and those before it
 };
+
+// How far the poses moved from one pass to the next, rms over the frames
+// both placed.
+std::optional<fusion::PoseChange> PassChange(const std::map<int, Rigid3d>& before,
+                                             const std::map<int, Rigid3d>& after) {
+  std::vector<std::optional<Rigid3d>> was, is;
+  for (const auto& [frame, pose] : after) {
+    if (const auto it = before.find(frame); it != before.end()) {
+      was.push_back(it->second);
+      is.push_back(pose);
+    }
+  }
+  return fusion::RmsPoseChange(was, is);
+}
 
 // One pass over the frames: writes the outputs and returns the report;
 // `prior` (a later pass) starts the self-referenced odometry on the pass
 // before's surface, `measured` receives this pass's. `pass` counts from 1
-// (of `passes`, 0 while not known).
+// (of `passes`, 0 while not known: auto).
 // `retried` is the report of a first attempt this one runs again
 // (ReconstructJob::retry_smaller_tracking), if any.
 ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::PoseProvider> provider,
@@ -355,7 +371,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   std::string label = "reconstruct";
   if (retried)
     label += ", again at " + std::to_string(job.self_referenced.max_tracking_width) + " px";
-  if (passes > 1) label += ", pass " + std::to_string(pass) + " of " + std::to_string(passes);
+  if (pass > 1 || passes > 1) label += ", pass " + std::to_string(pass);
+  if (passes > 1) label += " of " + std::to_string(passes);
   ProgressBar progress(label, total_frames, !job.quiet);
   long frames_done = 0;
   std::optional<Rigid3d> first_pose;
@@ -400,6 +417,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       if (!first_pose) first_pose = update.world_from_camera;
       trajectory.Add({it->second.timestamp_s, update.world_from_camera});
       placed_poses.push_back({it->second.timestamp_s, update.world_from_camera});
+      if (measured) measured->poses[update.frame] = update.world_from_camera;
       line_stage.SetPose(update.frame, update.world_from_camera);
       ++frames_placed;
       add_profile(it->second.profile, update.frame, update.world_from_camera, *first_pose);
@@ -496,6 +514,18 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   uncompensated.Close();
   trajectory.Commit();
   report.passes = pass;
+  if (prior && measured) {
+    report.pass_changes = prior->changes;
+    if (const auto change = PassChange(prior->poses, measured->poses))
+      report.pass_changes.push_back(*change);
+    if (passes == 0 && !report.pass_changes.empty()) {
+      const fusion::PoseChange& last = report.pass_changes.back();
+      report.passes_settled =
+          last.moved_m < job.passes_settled_m && last.turned_deg < job.passes_settled_deg;
+      report.passes_settled_within = {job.passes_settled_m, job.passes_settled_deg};
+    }
+  }
+  if (measured) measured->changes = report.pass_changes;
   report.seconds_earlier_passes = prior ? prior->seconds : retried ? retried->seconds : 0.0;
   if (retried) {
     report.tracking_retried_from_width = retried->pose_details.value("tracked_image_width", 0);
@@ -543,11 +573,18 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   // laser reached it.
   if (job.passes != 1 && measured.surface &&
       (job.passes > 1 || measured.surface->HasFrontSurface())) {
-    const int passes = job.passes == 0 ? ReconstructJob::kMaxPasses : job.passes;
+    const bool automatic = job.passes == 0;
+    const int passes = automatic ? ReconstructJob::kMaxPasses : job.passes;
     for (int pass = 2; pass <= passes; ++pass) {
       MeasuredScene next;
-      report = RunPass(job, nullptr, pass, passes, &measured, pass < passes ? &next : nullptr);
+      report = RunPass(job, nullptr, pass, automatic ? 0 : passes, &measured, &next);
       measured = std::move(next);
+      if (!automatic || pass < ReconstructJob::kMinAutoPasses) continue;
+      const auto& changes = report.pass_changes;
+      const bool converging = pass < 4 || changes.size() < 2 ||
+                              changes.back().moved_m <
+                                  job.passes_converging_ratio * changes[changes.size() - 2].moved_m;
+      if (report.passes_settled != false || !converging) break;
     }
     return report;
   }

@@ -103,12 +103,21 @@ struct ReconstructJob {
   // shaft before a hull), whose depth the first pass had to guess until the
   // laser reached it. The second pass's surface is placed with poses that
   // had those depths from the start, so a third pass starts from a truer
-  // one; a fourth changes nothing more (BENCHMARKS.md). 0 (auto): three
-  // passes when the first found such a surface
-  // (SurfaceModel::HasFrontSurface), else one; 1, 2, 3: so many. Each pass
-  // costs the time of the first; the last one's outputs replace the others'.
+  // one, and so on until the trajectory settles. 0 (auto): when the first
+  // pass found such a surface (SurfaceModel::HasFrontSurface), at least
+  // kMinAutoPasses, then more while the last one moved the trajectory by
+  // passes_settled_m or passes_settled_deg or more (rms over the frames)
+  // and, from the fourth on, by less than passes_converging_ratio of the
+  // move before (else more would only shuffle it), at most kMaxPasses
+  // (BENCHMARKS.md, "Passes until the trajectory settles"); else one. 1 to
+  // kMaxPasses: so many. Each pass costs the time of the first; the last
+  // one's outputs replace the others'.
   int passes = 0;
-  static constexpr int kMaxPasses = 3;  // also auto's, when it takes more than one
+  static constexpr int kMinAutoPasses = 3;
+  static constexpr int kMaxPasses = 6;
+  double passes_settled_m = 0.002;  // as the start's refinements settle
+  double passes_settled_deg = 0.05;
+  double passes_converging_ratio = 0.7;
   // A first pass whose start had not settled by ten times its tolerance
   // (faint, noisy features: turbid water) on a tracked image 640 px wide
   // or more is run again tracking half of it, which averages more of the
@@ -200,7 +209,15 @@ struct ReconstructReport {
   // frames with a point off the windows' line, detected again whole.
   int line_window_px = 0;
   int frames_line_window_redone = 0;
-  int passes = 1;                        // the self-referenced odometry's (ReconstructJob::passes)
+  int passes = 1;  // the self-referenced odometry's (ReconstructJob::passes)
+  // How far each pass after the first moved the trajectory from the pass
+  // before's (rms over the frames both placed).
+  std::vector<fusion::PoseChange> pass_changes;
+  // Auto passes: whether the last one's move was within the tolerance
+  // (ReconstructJob::passes_settled_m, _deg); unset with one pass or a
+  // forced count.
+  std::optional<bool> passes_settled;
+  fusion::PoseChange passes_settled_within;
   int track_every = 1;                   // the odometry's, as used (ReconstructJob::track_every)
   bool async_bundle_adjustment = false;  // as used (ReconstructJob::async_bundle_adjustment)
   double seconds_earlier_passes = 0.0;   // of the passes before the last (included in `seconds`)

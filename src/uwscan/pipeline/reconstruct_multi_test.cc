@@ -88,8 +88,9 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
 // platform moves along: the laser reaches the shaft late in the scan, so a
 // single pass gives the shaft's features the hull's depth, 0.7 m too far,
 // until then. The first pass finds the surface in front, so by default two
-// more run, each from its first frame on the surface the pass before
-// measured over the whole scan; the shaft's cylinder then fits better than
+// more run (and more until the trajectory settles), each from its first
+// frame on the surface the pass before measured over the whole scan; the
+// shaft's cylinder then fits better than
 // with the INS-like trajectory, as the issue asks (coastal water, 640x480).
 // The second pass starts from the first pass's misplaced shaft, the third
 // from the second pass's own profiles; whether two passes already suffice
@@ -113,10 +114,11 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
     return RunReconstruct(job);
   };
   const ReconstructReport automatic = run("auto", 0);
-  EXPECT_EQ(automatic.passes, 3);
+  EXPECT_GE(automatic.passes, 3);  // and more until the trajectory settles
+  EXPECT_EQ(automatic.passes_settled, true);
   EXPECT_GT(automatic.seconds_earlier_passes, 0.0);
   EXPECT_GT(automatic.seconds, automatic.seconds_earlier_passes);
-  const double three_passes = shaft_residual(automatic);
+  const double auto_passes = shaft_residual(automatic);
   const ReconstructReport two = run("two", 2);
   EXPECT_EQ(two.passes, 2);
   const double two_passes = shaft_residual(two);
@@ -126,15 +128,16 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   job.poses_file = job.dataset / "ins.tum";
   const double ins = shaft_residual(run("ins", 0));
   std::printf(
-      "shaft cylinder residual: three passes %.2f mm, two %.2f mm, one %.2f mm, INS %.2f mm\n",
-      three_passes * 1e3, two_passes * 1e3, one_pass * 1e3, ins * 1e3);
-  EXPECT_LT(three_passes, 0.5 * ins);
-  EXPECT_LT(three_passes, 0.2 * one_pass);
-  EXPECT_LT(three_passes, two_passes);
+      "shaft cylinder residual: auto (%d passes) %.2f mm, two %.2f mm, one %.2f mm, INS %.2f "
+      "mm\n",
+      automatic.passes, auto_passes * 1e3, two_passes * 1e3, one_pass * 1e3, ins * 1e3);
+  EXPECT_LT(auto_passes, 0.5 * ins);
+  EXPECT_LT(auto_passes, 0.2 * one_pass);
+  EXPECT_LT(auto_passes, two_passes);
   // 0.36-0.38 mm here (the 31 hull sequences of BENCHMARKS.md: 0.35-0.63 mm,
   // median 0.46, but 1.26 on coastal seed 79); a third pass on the second's
   // surface mixed with the first's (the odometry's own) gave 0.65 mm.
-  EXPECT_LT(three_passes, 0.5e-3);
+  EXPECT_LT(auto_passes, 0.5e-3);
 
   // A first start far from settled (here by a tolerance tightened
   // twentyfold) runs again on half the image where the first pass is the
@@ -146,7 +149,7 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   EXPECT_EQ(tight_one.tracking_retried_from_width, 640);
   EXPECT_EQ(tight_one.pose_details.value("tracked_image_width", 0), 320);
   const ReconstructReport tight_auto = run("tight_auto", 0);
-  EXPECT_EQ(tight_auto.passes, 3);
+  EXPECT_GE(tight_auto.passes, 3);
   EXPECT_EQ(tight_auto.tracking_retried_from_width, 0);
   EXPECT_EQ(tight_auto.pose_details.value("tracked_image_width", 0), 640);
   fs::remove_all(root);

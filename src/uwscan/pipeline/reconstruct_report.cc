@@ -49,8 +49,13 @@ void ReconstructJob::Check() const {
     throw UsageError("--max-range-error-per-px must be >= 0 (0 = keep all), got " +
                      std::to_string(max_range_error_per_px));
   }
-  if (passes < 0 || passes > kMaxPasses)
-    throw UsageError("--passes must be auto, 1, 2 or 3, got " + std::to_string(passes));
+  if (passes < 0 || passes > kMaxPasses) {
+    throw UsageError(fmt::format("--passes must be auto or 1 to {}, got {}", kMaxPasses, passes));
+  }
+  if (!(passes_settled_m > 0.0) || !(passes_settled_deg > 0.0) ||
+      !(passes_converging_ratio > 0.0 && passes_converging_ratio <= 1.0)) {
+    throw UsageError("the passes' tolerances must be > 0 and their converging ratio in (0, 1]");
+  }
   if (passes > 1 && poses_file)
     throw UsageError("--passes " + std::to_string(passes) +
                      " and --poses exclude each other (the passes are the odometry's)");
@@ -300,6 +305,16 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        "converging: the trajectory depends on the machine's load "
                        "(--ba-time-limit)");
   }
+  if (passes_settled == false && !pass_changes.empty()) {
+    // A surface in front of the main one (a shaft before a hull): each pass
+    // places it with the poses of the one before.
+    warnings.push_back(fmt::format(
+        "the trajectory had not settled after {} passes: the last moved it by {:.1f} mm and "
+        "{:.2f} deg rms (settled: below {:g} mm and {:g} deg); the depths of the surface in "
+        "front of the scene's main one, and so the poses, may still be off (--passes)",
+        passes, 1e3 * pass_changes.back().moved_m, pass_changes.back().turned_deg,
+        1e3 * passes_settled_within.moved_m, passes_settled_within.turned_deg));
+  }
   if (const std::optional<UnsettledStart> start = FindUnsettledStart(pose_details)) {
     // Far from settled, the held frames' tracks do not hold the scene still
     // (faint, noisy features), and every later pose rests on that start: in
@@ -368,6 +383,11 @@ nlohmann::json CameraReport::ToJson() const {
 nlohmann::json ReconstructReport::ToJson() const {
   nlohmann::json cameras = nlohmann::json::array();
   for (const auto& camera : other_cameras) cameras.push_back(camera.ToJson());
+  std::vector<double> pass_moves_mm, pass_turns_deg;
+  for (const fusion::PoseChange& change : pass_changes) {
+    pass_moves_mm.push_back(1e3 * change.moved_m);
+    pass_turns_deg.push_back(change.turned_deg);
+  }
   return {{"frames", frames},
           {"warnings", Warnings()},
           {"frames_with_line", frames_with_line},
@@ -404,6 +424,9 @@ nlohmann::json ReconstructReport::ToJson() const {
             {"waiting_for_images", seconds_waiting_for_images},
             {"earlier_passes", seconds_earlier_passes}}},
           {"passes", passes},
+          {"pass_changes_mm", pass_moves_mm},
+          {"pass_changes_deg", pass_turns_deg},
+          {"passes_settled", passes_settled ? nlohmann::json(*passes_settled) : nlohmann::json()},
           {"tracking_retried_from_width", tracking_retried_from_width},
           {"retried_start_last_change_mm", retried_start_change_mm},
           {"tracking_retry_failed", tracking_retry_failed},

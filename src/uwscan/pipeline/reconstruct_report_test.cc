@@ -164,6 +164,30 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
   EXPECT_TRUE(unsettled.Warnings().empty());
 
+  // Auto passes (a surface in front of the main one) that stopped before
+  // the trajectory settled: said, with the last pass's move; settled, or
+  // a forced count (passes_settled unset), nothing.
+  ReconstructReport passes = good;
+  passes.passes = 6;
+  passes.pass_changes = {{0.4, 10.0}, {0.08, 3.0}, {0.008, 0.2}, {0.0061, 0.1}, {0.0052, 0.08}};
+  passes.passes_settled = false;
+  passes.passes_settled_within = {0.002, 0.05};
+  EXPECT_TRUE(says(passes, 0,
+                   "the trajectory had not settled after 6 passes: the last moved it by 5.2 mm "
+                   "and 0.08 deg rms (settled: below 2 mm and 0.05 deg)"));
+  const nlohmann::json passes_json = passes.ToJson();
+  ASSERT_EQ(passes_json["pass_changes_mm"].size(), 5u);
+  EXPECT_DOUBLE_EQ(passes_json["pass_changes_mm"][2].get<double>(), 8.0);
+  EXPECT_DOUBLE_EQ(passes_json["pass_changes_deg"][4].get<double>(), 0.08);
+  EXPECT_EQ(passes_json["passes_settled"], false);
+  passes.passes_settled = true;
+  EXPECT_TRUE(passes.Warnings().empty());
+  EXPECT_EQ(passes.ToJson()["passes_settled"], true);
+  passes.passes_settled.reset();
+  EXPECT_TRUE(passes.Warnings().empty());
+  EXPECT_TRUE(passes.ToJson()["passes_settled"].is_null());
+  EXPECT_TRUE(good.ToJson()["pass_changes_mm"].empty());
+
   // Points whose ray grazes the sheet: a few are stray light, silently
   // dropped (in report.json); from 1 % of the points on, a warning.
   ReconstructReport grazing = good;
