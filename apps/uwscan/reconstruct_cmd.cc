@@ -194,11 +194,11 @@ void RegisterReconstructCommand(CLI::App& app) {
     if (*no_line_ranges) job->line_ranges = false;
     if (*line_ranges) job->line_ranges = true;
     job->other_cameras = !*main_camera_only;
+    const int count = passes->size() == 1 ? (*passes)[0] - '0' : -1;
     if (*passes == "auto") {
       job->passes = 0;
-    } else if (passes->size() == 1 && *passes >= "1" &&
-               (*passes)[0] - '0' <= ReconstructJob::kMaxPasses) {
-      job->passes = (*passes)[0] - '0';
+    } else if (count >= 1 && count <= ReconstructJob::kMaxPasses) {
+      job->passes = count;
     } else {
       throw UsageError("--passes must be auto or 1 to " +
                        std::to_string(ReconstructJob::kMaxPasses) + ", got '" + *passes + "'");

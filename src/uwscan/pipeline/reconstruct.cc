@@ -581,7 +581,7 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
       measured = std::move(next);
       if (!automatic || pass < ReconstructJob::kMinAutoPasses) continue;
       const auto& changes = report.pass_changes;
-      const bool converging = pass < 4 || changes.size() < 2 ||
+      const bool converging = pass <= ReconstructJob::kMinAutoPasses || changes.size() < 2 ||
                               changes.back().moved_m <
                                   job.passes_converging_ratio * changes[changes.size() - 2].moved_m;
       if (report.passes_settled != false || !converging) break;
