@@ -5,20 +5,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <deque>
 #include <exception>
 #include <map>
-#include <mutex>
-#include <thread>
 
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/dataset.h"
-#include "uwscan/io/image.h"
 #include "uwscan/io/ply.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
 #include "uwscan/laser/profile.h"
+#include "uwscan/pipeline/frame_reader.h"
 #include "uwscan/pipeline/line_stage.h"
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/atomic_file.h"
@@ -57,121 +53,6 @@ std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
             missing > 1 ? std::to_string(missing - 1) + " more" : std::string(), ")");
   return frames;
 }
-
-// A frame as read, with its laser line and what the pose provider made of
-// it ahead.
-struct ReadFrame {
-  cv::Mat image;
-  laser::Detection detection;
-  laser::Profile profile;
-  std::optional<fusion::PreparedFrame> prepared;
-};
-
-// Reads (and decodes) the frames on a second thread, up to kAhead frames
-// ahead of the one being processed (a live camera delivers decoded frames;
-// decoding a dataset's PNGs would otherwise add to the time), and finds
-// their laser lines with `line_stage` there too when the stage needs no
-// poses (servo sweeps, fixed lasers without the motion filter), so that
-// the two share the machine's cores; otherwise on the caller's thread,
-// once the frames before have their poses. The pose provider's per-frame
-// preparation (PrepareAhead: the image it tracks, the line's mask) is made
-// there as well. Several frames ahead, not one: the pose estimation's time
-// per frame is uneven (a keyframe's bundle adjustment takes ten frames'
-// time), and with one frame ahead the reader would idle through it and
-// the caller wait for the reader after it. One thread for the whole
-// sequence (its decoding buffers are reused).
-class FrameReader {
- public:
-  // `provider` may be null (no preparation ahead).
-  FrameReader(fs::path dataset, const std::vector<FrameRecord>& frames, LineStage* line_stage,
-              const fusion::PoseProvider* provider)
-      : dataset_(std::move(dataset)),
-        frames_(frames),
-        line_stage_(line_stage),
-        line_ahead_(!line_stage->NeedsPoses()),
-        provider_(provider && provider->PreparesAhead() ? provider : nullptr) {
-    if (!frames_.empty()) worker_ = std::thread([this] { Work(); });
-  }
-  ~FrameReader() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    changed_.notify_all();
-    if (worker_.joinable()) worker_.join();
-  }
-  // Frame i with its line; the calls must ask for 0, 1, 2, ... in turn.
-  ReadFrame Get(size_t i) {
-    const auto start = std::chrono::steady_clock::now();
-    std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [this] { return !ready_.empty(); });
-    seconds_waiting_ += Seconds(start);
-    Entry entry = std::move(ready_.front());
-    ready_.pop_front();
-    lock.unlock();
-    changed_.notify_all();
-    if (entry.error) std::rethrow_exception(entry.error);  // a read error, named
-    UWS_CHECK(entry.index == i, "frame reader: frame ", i, " asked for out of turn");
-    if (!line_ahead_) {
-      line_stage_->Process(i, entry.frame.image, &entry.frame.detection, &entry.frame.profile);
-    }
-    return std::move(entry.frame);
-  }
-  // Time Get spent waiting for the reading thread.
-  double seconds_waiting() const { return seconds_waiting_; }
-
- private:
-  static constexpr size_t kAhead = 8;
-  struct Entry {
-    size_t index = 0;
-    ReadFrame frame;
-    std::exception_ptr error;  // instead of the frame
-  };
-  void Work() {
-    for (size_t i = 0; i < frames_.size(); ++i) {
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        changed_.wait(lock, [this] { return stop_ || ready_.size() < kAhead; });
-        if (stop_) return;
-      }
-      Entry entry{i, {}, nullptr};
-      try {
-        entry.frame = Read(i);
-      } catch (...) {
-        entry.error = std::current_exception();
-      }
-      const bool failed = entry.error != nullptr;
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        ready_.push_back(std::move(entry));
-      }
-      changed_.notify_all();
-      if (failed) return;  // the caller stops at this frame
-    }
-  }
-  ReadFrame Read(size_t i) const {
-    ReadFrame frame;
-    frame.image = ReadImage(dataset_ / frames_[i].file);
-    if (line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
-    if (provider_) {
-      frame.prepared =
-          provider_->PrepareAhead({frames_[i].index, frames_[i].timestamp_s, frame.image,
-                                   line_ahead_ ? &frame.detection : nullptr});
-    }
-    return frame;
-  }
-  fs::path dataset_;
-  const std::vector<FrameRecord>& frames_;
-  LineStage* line_stage_;
-  const bool line_ahead_;                 // found on the reading thread
-  const fusion::PoseProvider* provider_;  // if it prepares frames ahead
-  double seconds_waiting_ = 0.0;          // caller's thread only
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<Entry> ready_;  // read, not yet taken, in frame order
-  bool stop_ = false;
-  std::thread worker_;
-};
 
 // The further cameras of a several-camera dataset (sim --pods 2): camera
 // NAME's images in DATASET/NAME/, a dataset of its own whose rig lists that

@@ -1,0 +1,82 @@
+#include "uwscan/pipeline/frame_reader.h"
+
+#include <chrono>
+#include <utility>
+
+#include "uwscan/io/image.h"
+#include "uwscan/util/error.h"
+
+namespace uwscan {
+
+FrameReader::FrameReader(std::filesystem::path dataset, const std::vector<FrameRecord>& frames,
+                         LineStage* line_stage, const fusion::PoseProvider* provider)
+    : dataset_(std::move(dataset)),
+      frames_(frames),
+      line_stage_(line_stage),
+      line_ahead_(!line_stage->NeedsPoses()),
+      provider_(provider && provider->PreparesAhead() ? provider : nullptr) {
+  if (!frames_.empty()) worker_ = std::thread([this] { Work(); });
+}
+
+FrameReader::~FrameReader() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+ReadFrame FrameReader::Get(size_t i) {
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return !ready_.empty(); });
+  seconds_waiting_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Entry entry = std::move(ready_.front());
+  ready_.pop_front();
+  lock.unlock();
+  changed_.notify_all();
+  if (entry.error) std::rethrow_exception(entry.error);  // a read error, named
+  UWS_CHECK(entry.index == i, "frame reader: frame ", i, " asked for out of turn");
+  if (!line_ahead_) {
+    line_stage_->Process(i, entry.frame.image, &entry.frame.detection, &entry.frame.profile);
+  }
+  return std::move(entry.frame);
+}
+
+void FrameReader::Work() {
+  for (size_t i = 0; i < frames_.size(); ++i) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [this] { return stop_ || ready_.size() < kAhead; });
+      if (stop_) return;
+    }
+    Entry entry{i, {}, nullptr};
+    try {
+      entry.frame = Read(i);
+    } catch (...) {
+      entry.error = std::current_exception();
+    }
+    const bool failed = entry.error != nullptr;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ready_.push_back(std::move(entry));
+    }
+    changed_.notify_all();
+    if (failed) return;  // the caller stops at this frame
+  }
+}
+
+ReadFrame FrameReader::Read(size_t i) const {
+  ReadFrame frame;
+  frame.image = ReadImage(dataset_ / frames_[i].file);
+  if (line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
+  if (provider_) {
+    frame.prepared = provider_->PrepareAhead({frames_[i].index, frames_[i].timestamp_s, frame.image,
+                                              line_ahead_ ? &frame.detection : nullptr});
+  }
+  return frame;
+}
+
+}  // namespace uwscan
