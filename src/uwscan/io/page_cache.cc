@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 namespace fs = std::filesystem;
@@ -70,7 +71,7 @@ FilesRead ReadFiles(const std::vector<fs::path>& files) {
       read.bytes += std::uint64_t(got);
     }
   }
-  read.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  read.seconds = SecondsSince(start);
   return read;
 }
 

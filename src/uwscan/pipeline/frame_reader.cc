@@ -5,6 +5,7 @@
 
 #include "uwscan/io/image.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 
@@ -31,8 +32,7 @@ ReadFrame FrameReader::Get(size_t i) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [this] { return !ready_.empty(); });
-  seconds_waiting_ +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  seconds_waiting_ += SecondsSince(start);
   Entry entry = std::move(ready_.front());
   ready_.pop_front();
   lock.unlock();

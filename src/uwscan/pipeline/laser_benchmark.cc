@@ -8,6 +8,7 @@
 #include "uwscan/laser/synthetic_line.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 
@@ -73,8 +74,7 @@ std::vector<LaserRate> RunLaserBenchmark(const std::vector<cv::Mat>& frames,
       for (const auto& frame : frames) {
         points += laser::DetectLaserLine(frame, layout, detector).points.size();
       }
-      best = std::min(
-          best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      best = std::min(best, SecondsSince(start));
     }
     rates.push_back({laser::MethodName(method), frames.size() / best,
                      static_cast<double>(points) / frames.size()});

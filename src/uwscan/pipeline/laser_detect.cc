@@ -15,6 +15,7 @@
 #include "uwscan/util/error.h"
 #include "uwscan/util/interrupt.h"
 #include "uwscan/util/progress.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 namespace fs = std::filesystem;
@@ -213,7 +214,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   if (profiles) profiles->Commit();
   if (overlays) overlays->Keep();
   summary.clipped_scene_share = clipped_total.Share();
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = SecondsSince(start);
   return summary;
 }
 

@@ -10,17 +10,10 @@
 #include "uwscan/laser/clipping.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 namespace fs = std::filesystem;
-
-namespace {
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-}  // namespace
 
 bool LaserSweeps(const std::vector<FrameRecord>& frames) {
   return std::any_of(frames.begin(), frames.end(), [&](const FrameRecord& f) {
@@ -129,7 +122,7 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     dark_image_ = image;
     dark_frame_ = i;
   }
-  report_->seconds_detect += Seconds(t);
+  report_->seconds_detect += SecondsSince(t);
 
   t = std::chrono::steady_clock::now();
   const double angle = record.laser_angle_rad.value_or(0.0);
@@ -142,7 +135,7 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
   }
   report_->triangulation_failures += profile->failed;
   report_->grazing_points += profile->grazing;
-  report_->seconds_triangulate += Seconds(t);
+  report_->seconds_triangulate += SecondsSince(t);
 }
 
 // The line in one frame; on servo scans, candidates standing where

@@ -10,6 +10,7 @@
 #include "uwscan/sensor/camera.h"
 #include "uwscan/sensor/pinhole.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 namespace {
@@ -46,8 +47,7 @@ ProjectionRate Measure(const std::string& camera_name, const std::string& method
     double sum = 0.0;
     const auto start = std::chrono::steady_clock::now();
     for (const auto& point : points) sum += SinkOf(project(point));
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = SecondsSince(start);
     g_sink = g_sink + sum;
     best_seconds = std::min(best_seconds, seconds);
   }

@@ -21,15 +21,12 @@
 #include "uwscan/util/error.h"
 #include "uwscan/util/interrupt.h"
 #include "uwscan/util/progress.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 namespace fs = std::filesystem;
 
 namespace {
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 uint8_t ToByte(float value) {
   return static_cast<uint8_t>(std::clamp(value * 255.0f, 0.0f, 255.0f));
@@ -321,14 +318,14 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     const auto updates = provider->Add(input);
     for (const auto& raw : provider->Preliminary())
       line_stage.SetPose(raw.frame, raw.world_from_camera);
-    report.seconds_pose += Seconds(t);
+    report.seconds_pose += SecondsSince(t);
 
     t = std::chrono::steady_clock::now();
     ++report.frames;
     if (!detection.points.empty()) ++report.frames_with_line;
     pending.emplace(record.index, Pending{record.timestamp_s, std::move(profile)});
     place(updates);
-    report.seconds_io += Seconds(t);
+    report.seconds_io += SecondsSince(t);
     progress.Update(++frames_done);
     ThrowIfInterrupted();
   }
@@ -412,7 +409,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     report.tracking_retried_from_width = retried->pose_details.value("tracked_image_width", 0);
     report.retried_start_change_mm = retried->pose_details.value("start_last_change_mm", 0.0);
   }
-  report.seconds = Seconds(start) + report.seconds_earlier_passes;
+  report.seconds = SecondsSince(start) + report.seconds_earlier_passes;
   if (measured) measured->seconds = report.seconds;
   WriteReport(job, report);
   return report;

@@ -8,6 +8,7 @@
 
 #include "uwscan/pipeline/vo_run.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 #include "uwscan/vo/odometry.h"
 #include "uwscan/vo/testing/plane_renderer.h"
 
@@ -53,7 +54,7 @@ VoBenchmarkResult RunVoBenchmark(const VoBenchmarkOptions& options) {
     render.noise_seed = unsigned(i);
     const auto t0 = std::chrono::steady_clock::now();
     const cv::Mat image = renderer.Render(pose, render);
-    result.render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.render_s += SecondsSince(t0);
     const vo::FrameResult r = odometry.ProcessFrame(image, cv::Mat(), i / 144.0);
     result.vo_s += r.total_time_s;
     result.tracking_s += r.tracking_time_s;

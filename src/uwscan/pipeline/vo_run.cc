@@ -18,6 +18,7 @@
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/interrupt.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 namespace {
@@ -177,8 +178,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       } catch (const Error& e) {
         warn("frame " + std::to_string(entry.index) + ": laser mask: " + e.what());
       }
-      summary.mask_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      summary.mask_s += SecondsSince(t0);
     }
     // Track the colour the laser does not light (the LED's, §5.5), with the
     // moving lights' shading removed (fusion::SelfReferencedPoseProvider).
@@ -315,7 +315,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   }
   summary.rss_kb_end = CurrentRssKb();
   summary.peak_rss_kb = PeakRssKb();
-  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.wall_s = SecondsSince(start);
   return summary;
 }
 

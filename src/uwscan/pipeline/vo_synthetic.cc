@@ -8,6 +8,7 @@
 #include "uwscan/io/tum_trajectory.h"
 #include "uwscan/pipeline/vo_dataset.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 #include "uwscan/vo/testing/plane_renderer.h"
 
 namespace uwscan {
@@ -123,7 +124,7 @@ SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
   for (size_t i = 1; i < poses.size(); ++i) {
     summary.path_length_m += (poses[i].translation - poses[i - 1].translation).norm();
   }
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = SecondsSince(start);
   return summary;
 }
 

@@ -14,6 +14,7 @@
 #include "uwscan/util/error.h"
 #include "uwscan/util/interrupt.h"
 #include "uwscan/util/progress.h"
+#include "uwscan/util/stopwatch.h"
 
 namespace uwscan::sim {
 namespace {
@@ -175,7 +176,7 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
   UWS_CHECK(!error, final_dir.string(), ": cannot move the dataset into place: ", error.message());
   guard.Release();
   result.frames = static_cast<int>(scenario.frames * scenario.Cameras());
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = SecondsSince(start);
   return result;
 }
 

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "uwscan/util/stopwatch.h"
+
 namespace uwscan {
 
 ProgressBar::ProgressBar(std::string label, long total, bool enabled)
@@ -37,8 +39,7 @@ void ProgressBar::Draw(long done) {
   constexpr int kWidth = 30;
   const double fraction = std::clamp(static_cast<double>(done) / total_, 0.0, 1.0);
   const int filled = static_cast<int>(fraction * kWidth);
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed = SecondsSince(start_);
   const double rate = elapsed > 0 ? done / elapsed : 0.0;
   std::fprintf(stderr, "\r%s [%.*s%*s] %ld/%ld %.1f/s ", label_.c_str(), filled,
                "##############################", kWidth - filled, "", done, total_, rate);

@@ -13,15 +13,11 @@
 #include "uwscan/sensor/triangulation.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/statistics.h"
+#include "uwscan/util/stopwatch.h"
 #include "uwscan/vo/cost_functions.h"
 
 namespace uwscan::vo {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 double ThreadCpuSeconds() {
   timespec t{};
@@ -104,7 +100,7 @@ Odometry::~Odometry() { DiscardBundleAdjustment(); }
 FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,
                                    const std::vector<RangeConstraint>& ranges,
                                    const LineRanges& line_ranges) {
-  const auto start = Clock::now();
+  const auto start = std::chrono::steady_clock::now();
   const double cpu_start = ThreadCpuSeconds();
   FrameResult result;
   result.frame_index = frame_count_++;
@@ -118,7 +114,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
                          : "image is " + std::to_string(image.cols) + "x" +
                                std::to_string(image.rows) + ", camera is " +
                                std::to_string(camera_.width) + "x" + std::to_string(camera_.height);
-    result.total_time_s = Seconds(start);
+    result.total_time_s = SecondsSince(start);
     result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
     return result;
   }
@@ -128,7 +124,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   result.tracking = tracker_.Track(gray, mask);
   MoveTracksToTruth();
   result.tracks = result.tracking.tracked;
-  result.tracking_time_s = Seconds(start);
+  result.tracking_time_s = SecondsSince(start);
   result.tracking_cpu_s = ThreadCpuSeconds() - cpu_start;
 
   if (state_ == State::kTracking) {
@@ -142,7 +138,7 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   }
   MoveTracksToTruth();  // those detected in this frame are seen by the truth here first
   if (result.world_from_camera) last_camera_from_world_ = result.world_from_camera->Inverse();
-  result.total_time_s = Seconds(start);
+  result.total_time_s = SecondsSince(start);
   result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
   return result;
 }

@@ -6,16 +6,10 @@
 #include <cmath>
 
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 #include "uwscan/vo/odometry.h"
 
 namespace uwscan::vo {
-namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
 
 bool Odometry::ExtrapolatedDepthAgrees(const Keyframe& keyframe, uint64_t id,
                                        const Eigen::Vector3d& point_world) const {

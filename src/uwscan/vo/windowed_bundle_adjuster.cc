@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "uwscan/util/error.h"
+#include "uwscan/util/stopwatch.h"
 #include "uwscan/vo/cost_functions.h"
 
 namespace uwscan::vo {
@@ -235,7 +236,7 @@ BundleAdjustmentSummary AdjustWindow(const Camera& camera, const BundleAdjustmen
         ranges.end());
     ++summary.removed_range_constraints;
   }
-  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.time_s = SecondsSince(start);
   return summary;
 }
 
