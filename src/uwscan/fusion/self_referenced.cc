@@ -244,6 +244,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // frames between are placed between the tracked ones around them.
   const size_t every = static_cast<size_t>(options_.track_every);
   std::vector<std::optional<Rigid3d>> previous_poses;
+  std::vector<double> moved_m;  // each refinement's change after the first
   bool converging = true;
   for (int refinement = 0; refinement < max_refinements && held_.size() > 2; ++refinement) {
     if (refinement >= min_refinements && (init_settled_ || !converging)) break;
@@ -283,14 +284,16 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     for (const Held& h : held_) poses.push_back(h.pose_guess);
     const std::optional<PoseChange> change =
         refinement > 0 ? RmsPoseChange(previous_poses, poses) : std::nullopt;
-    const double last_move_m = init_last_move_m_;
-    if (change) init_last_move_m_ = change->moved_m, init_last_turn_deg_ = change->turned_deg;
+    if (change) {
+      init_last_move_m_ = change->moved_m, init_last_turn_deg_ = change->turned_deg;
+      moved_m.push_back(change->moved_m);
+    }
     init_settled_ = change && change->moved_m < options_.init_settled_m &&
                     change->turned_deg < options_.init_settled_deg;
     // Held frames the odometry cannot place better (a few frames of a
     // fast sweep) change as much every time: more would only shuffle them.
-    converging = refinement < 2 ||
-                 (change && change->moved_m < options_.init_converging_ratio * last_move_m);
+    converging =
+        refinement < 2 || (change && StartConverging(moved_m, options_.init_converging_ratio));
     previous_poses = std::move(poses);
     ++init_refinements_done_;
     surface_ = std::move(refined);
@@ -373,6 +376,11 @@ void SelfReferencedPoseProvider::GuessHeldMotion(Held* held) {
   held->pose_guess = world_from_guess * *held->guess_world_from_camera;
   // Frames already in the held frames' surface were placed otherwise.
   if (placed_again) init_surface_.reset();
+}
+
+bool SelfReferencedPoseProvider::StartConverging(const std::vector<double>& moved_m, double ratio) {
+  const size_t n = moved_m.size();
+  return n < 2 || moved_m[n - 1] < ratio * moved_m[n - 2];
 }
 
 Rigid3d SelfReferencedPoseProvider::PoseGuess(size_t i, const Rigid3d& origin) const {

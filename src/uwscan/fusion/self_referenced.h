@@ -89,8 +89,13 @@ struct SelfReferencedOptions {
   double init_settled_m = 0.002;
   double init_settled_deg = 0.05;
   // ... and while they converge: each change below this fraction of the one
-  // before.
-  double init_converging_ratio = 0.7;
+  // before (StartConverging). 1: while each change is smaller than the one
+  // before, however slowly; a start whose poses shrink slowly from a far-off
+  // first surface needs those refinements (tank seed 2003: 26, 19, 6, 5, 4,
+  // 3, 2.5 mm; stopped after 19 mm at 0.7, its scale came out 1.6 % off,
+  // 0.3 % after all eight), while the hulls' few held frames stop at the
+  // first change that grows (HC29: 31, 17, 25 mm).
+  double init_converging_ratio = 1.0;
   // Place the held frames' profiles with a plain odometry's poses before
   // the map starts (GuessHeldMotion); on a hover it finds no parallax and
   // changes nothing.
@@ -184,6 +189,12 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // and a full-resolution mask at that size: a tracked pixel is masked if
   // any of its full-resolution pixels is.
   static cv::Mat TrackedMask(const cv::Mat& mask, const cv::Size& tracked);
+
+  // Whether the held frames' poses still converge at the start, given the
+  // rms change of each refinement after the first, in order: while there
+  // are fewer than two, or the last is below `ratio`
+  // (init_converging_ratio) times the one before.
+  static bool StartConverging(const std::vector<double>& moved_m, double ratio);
 
  private:
   struct Held {
