@@ -252,7 +252,8 @@ TEST(SelfReferencedPoseProvider, TheStartConvergesWhileEachChangeShrinks) {
   // Tank seed 2003: 26 -> 19 mm is a slow step, but the poses go on to
   // settle; stopped there, its scale came out 1.6 % off (0.3 % after all).
   EXPECT_TRUE(converging_throughout({26.08, 18.80, 6.03, 5.04, 3.76, 3.11, 2.46}));
-  // Tank seed 103 (its first plane the light sheet), settled after six.
+  // Tank seed 103 in the eighteenth session (its first plane the light
+  // sheet): settled after six.
   EXPECT_TRUE(converging_throughout({52.4, 26.5, 7.3, 3.4, 1.0}));
   // Hull HC29: more refinements would only shuffle its few held frames.
   EXPECT_FALSE(converging_throughout({31.0, 17.0, 25.0}));
