@@ -73,7 +73,12 @@ struct SelfReferencedOptions {
   // plane (SurfaceModelOptions::min_plane_width_m): ~1 s at 144 Hz, where
   // the tank target's slowest sweep covers 5 cm in ~125 frames.
   int max_init_frames = 150;
-  int init_attempt_every = 3;  // frames between initialisation attempts
+  // Frames between initialisation attempts while the hold grows; once it
+  // is full (max_init_frames) its size stays, and every frame whose held
+  // profiles span the plane is an attempt (kept so: spacing them moved
+  // tank seed 103's start and its scale, BENCHMARKS.md, thirty-ninth
+  // session).
+  int init_attempt_every = 3;
   // Times the held frames are tracked on the starting surface and their
   // profiles placed again with those poses before tracking goes on: at
   // least init_refinements (0: placed once, with the guessed motion), then
