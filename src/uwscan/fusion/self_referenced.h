@@ -75,9 +75,9 @@ struct SelfReferencedOptions {
   int max_init_frames = 150;
   // Frames between initialisation attempts while the hold grows; once it
   // is full (max_init_frames) its size stays, and every frame whose held
-  // profiles span the plane is an attempt (kept so: spacing them moved
-  // tank seed 103's start and its scale, BENCHMARKS.md, thirty-ninth
-  // session).
+  // profiles span the plane is an attempt. Spacing those moved tank seed
+  // 103's start and its scale (BENCHMARKS.md, "Two more unseen full scans,
+  // ten more hulls").
   int init_attempt_every = 3;
   // Times the held frames are tracked on the starting surface and their
   // profiles placed again with those poses before tracking goes on: at
