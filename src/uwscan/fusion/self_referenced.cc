@@ -380,7 +380,7 @@ void SelfReferencedPoseProvider::GuessHeldMotion(Held* held) {
 
 bool SelfReferencedPoseProvider::StartConverging(const std::vector<double>& moved_m, double ratio) {
   const size_t n = moved_m.size();
-  return n < 2 || moved_m[n - 1] < ratio * moved_m[n - 2];
+  return n < 3 || moved_m[n - 1] < ratio * moved_m[n - 2];
 }
 
 Rigid3d SelfReferencedPoseProvider::PoseGuess(size_t i, const Rigid3d& origin) const {

@@ -94,12 +94,11 @@ struct SelfReferencedOptions {
   double init_settled_m = 0.002;
   double init_settled_deg = 0.05;
   // ... and while they converge: each change below this fraction of the one
-  // before (StartConverging). 1: while each change is smaller than the one
-  // before, however slowly; a start whose poses shrink slowly from a far-off
-  // first surface needs those refinements (tank seed 2003: 26, 19, 6, 5, 4,
-  // 3, 2.5 mm; stopped after 19 mm at 0.7, its scale came out 1.6 % off,
-  // 0.3 % after all eight), while the hulls' few held frames stop at the
-  // first change that grows (HC29: 31, 17, 25 mm).
+  // before (StartConverging, from the third change on). 1: while each
+  // change is smaller than the one before, however slowly; a start whose poses shrink slowly from a
+  // far-off first surface needs those refinements (tank seed 2003: 26, 19, 6, 5, 4, 3, 2.5 mm;
+  // stopped after 19 mm at 0.7, its scale came out 1.6 % off, 0.3 % after all eight), while the
+  // hulls' few held frames stop at the first change that grows (HC29: 31, 17, 25 mm).
   double init_converging_ratio = 1.0;
   // Place the held frames' profiles with a plain odometry's poses before
   // the map starts (GuessHeldMotion); on a hover it finds no parallax and
@@ -197,8 +196,14 @@ class SelfReferencedPoseProvider : public PoseProvider {
 
   // Whether the held frames' poses still converge at the start, given the
   // rms change of each refinement after the first, in order: while there
-  // are fewer than two, or the last is below `ratio`
-  // (init_converging_ratio) times the one before.
+  // are fewer than three, or the last is below `ratio`
+  // (init_converging_ratio) times the one before. The second change is not
+  // held to the first: the surface the held frames were first placed on,
+  // with the platform moving several centimetres while they were taken, can
+  // take two refinements to turn into place, the second moving them more
+  // (tank seeds 2063 and 2069: 34 then 43 mm and 20 then 38 mm, then 2.8
+  // and 5.3 mm, settled after one more; stopped at the second, the scan
+  // warned and ran again on half the image, at half the speed).
   static bool StartConverging(const std::vector<double>& moved_m, double ratio);
 
  private:
