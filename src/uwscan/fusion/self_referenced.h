@@ -95,10 +95,12 @@ struct SelfReferencedOptions {
   double init_settled_deg = 0.05;
   // ... and while they converge: each change below this fraction of the one
   // before (StartConverging, from the third change on). 1: while each
-  // change is smaller than the one before, however slowly; a start whose poses shrink slowly from a
-  // far-off first surface needs those refinements (tank seed 2003: 26, 19, 6, 5, 4, 3, 2.5 mm;
-  // stopped after 19 mm at 0.7, its scale came out 1.6 % off, 0.3 % after all eight), while the
-  // hulls' few held frames stop at the first change that grows (HC29: 31, 17, 25 mm).
+  // change is smaller than the one before, however slowly; a start whose
+  // poses shrink slowly from a far-off first surface needs those
+  // refinements (tank seed 2003: 26, 19, 6, 5, 4, 3, 2.5 mm; stopped after
+  // 19 mm at 0.7, its scale came out 1.6 % off, 0.3 % after all eight),
+  // while the hulls' few held frames stop at the first change that grows
+  // (HC29: 31, 17, 25 mm).
   double init_converging_ratio = 1.0;
   // Place the held frames' profiles with a plain odometry's poses before
   // the map starts (GuessHeldMotion); on a hover it finds no parallax and

@@ -237,9 +237,10 @@ TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
 
 // The start's refinements go on while each moves the held poses less than
 // the one before, however slowly (the default converging ratio), and stop
-// at the first that moves them more, from the third on. The sequences are measured ones (rms
-// change per refinement after the first, mm): full tank scans at 1280x960
-// whose first surface was far off, and a hull's few held frames.
+// at the first that moves them more, from the third on. The sequences are
+// measured ones (rms change per refinement after the first, mm): full tank
+// scans at 1280x960 whose first surface was far off, and a hull's few held
+// frames.
 TEST(SelfReferencedPoseProvider, TheStartConvergesWhileEachChangeShrinks) {
   const double ratio = SelfReferencedOptions().init_converging_ratio;
   const auto converging_throughout = [ratio](const std::vector<double>& changes_mm) {
@@ -262,7 +263,7 @@ TEST(SelfReferencedPoseProvider, TheStartConvergesWhileEachChangeShrinks) {
   EXPECT_FALSE(converging_throughout({34.0, 43.0, 50.0}));
   // Tank seeds 2063 and 2069: the surface turned into place over two
   // refinements, the second moving the held frames more than the first;
-  // both settled after one more.
+  // both settled two refinements later.
   EXPECT_TRUE(converging_throughout({34.14, 43.24, 2.82, 1.74}));
   EXPECT_TRUE(converging_throughout({19.56, 38.44, 5.30, 0.98}));
   // Fewer than three changes: the first two are not compared.
