@@ -162,7 +162,11 @@ TEST(ReconstructMarineSnow, FloodLitParticlesAreNotTakenForTheLine) {
   EXPECT_GT(grazing.grazing_points, 0);
   EXPECT_EQ(kept.points - grazing.points, grazing.grazing_points);  // only they went
   const auto nearer = EvaluateReconstruction(job.dataset, job.out);
-  EXPECT_LT(nearer.compensated.point_error_rms_m, 0.1 * snowy.compensated.point_error_rms_m);
+  // The gate takes out the farthest particles (725 -> 502 mm). Until the
+  // simulator stopped imaging particles from past the lens's fold (more
+  // than 45 degrees off the axis in water), a few of those, wrongly
+  // placed in the image, had made it 11.7 m -> 0.38 m.
+  EXPECT_LT(nearer.compensated.point_error_rms_m, snowy.compensated.point_error_rms_m);
   EXPECT_GT(nearer.compensated.point_error_rms_m, 10 * clean.compensated.point_error_rms_m);
   std::printf(
       "marine snow: point error %.1f mm with the colour test, %.0f mm without, %.0f mm without "

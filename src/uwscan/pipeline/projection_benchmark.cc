@@ -153,8 +153,9 @@ std::vector<TaylorAccuracy> RunTaylorAccuracy(int step_px) {
                                         &start_normalized[0], &start_normalized[1]);
               }
               double start_pixel[2];
-              PinholeModel::NormalizedToImage(intrinsics, distortion, start_normalized[0],
-                                              start_normalized[1], start_pixel);
+              ok =
+                  ok && PinholeModel::NormalizedToImage(intrinsics, distortion, start_normalized[0],
+                                                        start_normalized[1], start_pixel);
               ok = ok && FlatPortModel::ProjectTaylor(intrinsics, distortion, normal, port.data(),
                                                       points[i].data(), start_normalized,
                                                       iterations, projected, variant);

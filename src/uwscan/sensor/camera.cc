@@ -72,8 +72,11 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> Camera::ProjectBounds
   }
   Eigen::Vector2d pixels[2];
   for (int i = 0; i < 2; ++i) {
-    PinholeModel::NormalizedToImage(intrinsics.data(), distortion.data(), air[i][0] / air[i][2],
-                                    air[i][1] / air[i][2], pixels[i].data());
+    if (!PinholeModel::NormalizedToImage(intrinsics.data(), distortion.data(),
+                                         air[i][0] / air[i][2], air[i][1] / air[i][2],
+                                         pixels[i].data())) {
+      return std::nullopt;
+    }
   }
   return std::pair{pixels[0], pixels[1]};
 }

@@ -88,9 +88,8 @@ struct FlatPortModel {
     const Status result = ExactAirRay(normal_in, port, point, air);
     if (status) *status = result;
     if (result != Status::kOk) return false;
-    PinholeModel::NormalizedToImage(intrinsics, distortion, air[0] / air[2], air[1] / air[2],
-                                    pixel);
-    return true;
+    return PinholeModel::NormalizedToImage(intrinsics, distortion, air[0] / air[2], air[1] / air[2],
+                                           pixel);
   }
 
   // The unit ray in air (camera frame) whose refracted path hits `point`.
@@ -209,8 +208,7 @@ struct FlatPortModel {
     for (int k = 0; k < iterations; ++k) {
       if (!TaylorStep(n, port, point, variant, &x, &y)) return false;
     }
-    PinholeModel::NormalizedToImage(intrinsics, distortion, x, y, pixel);
-    return true;
+    return PinholeModel::NormalizedToImage(intrinsics, distortion, x, y, pixel);
   }
 
   // Taylor projection centred at a measured pixel (as in calibration, §4.4).

@@ -179,6 +179,44 @@ TEST(FlatPortModel, FailuresAreReportedNotNaN) {
   }
 }
 
+// Behind a flat port the air ray of a point 45.5 degrees or more off the
+// axis in water (seen from where the ray leaves the port; 46 degrees from
+// the port's centre at 2 m) is already past the tank lens's fold (72
+// degrees in air; 48.4 degrees is the port's limit). Such points came
+// back inside the image (48.2 degrees at u = 262 of 320): now none does,
+// by any method, while the field of view projects as before.
+TEST(FlatPortModel, PointsPastTheLensFoldAreNotImaged) {
+  Camera camera;  // the simulated tank camera at 320x240
+  camera.width = 320;
+  camera.height = 240;
+  camera.intrinsics = {195.625, 195.625, 162.0, 121.2};
+  camera.distortion = {-0.037, 0.0002, 0.0, 0.0, 0.0};
+  camera.port.d_air = 0.007;
+  const auto at = [](double degrees) {
+    const double a = degrees * M_PI / 180.0;
+    return Eigen::Vector3d(2.0 * std::sin(a), 0.0, 2.0 * std::cos(a) + 0.017);
+  };
+  for (double degrees : {0.0, 20.0, 35.0, 45.0}) {
+    const auto exact = camera.Project(at(degrees));
+    ASSERT_TRUE(exact.has_value()) << degrees;
+    const auto ray = camera.BackProject(*exact);
+    ASSERT_TRUE(ray.has_value());
+    const Eigen::Vector3d to = at(degrees) - ray->origin;
+    EXPECT_LT((to - to.dot(ray->direction) * ray->direction).norm(), 1e-9) << degrees;
+    EXPECT_TRUE(camera.Project(at(degrees), ProjectionMethod::kTaylor, 3).has_value());
+    if (degrees > 0.0) {  // on the axis only Project can tell
+      EXPECT_TRUE(camera.ProjectBounds(at(degrees), 1e-6).has_value());
+    }
+  }
+  for (double degrees : {46.5, 47.0, 48.0, 48.2, 48.3}) {
+    EXPECT_FALSE(camera.Project(at(degrees)).has_value()) << degrees;
+    EXPECT_FALSE(camera.Project(at(degrees), ProjectionMethod::kTaylor, 3).has_value()) << degrees;
+    EXPECT_FALSE(camera.ProjectBounds(at(degrees), 1e-6).has_value()) << degrees;
+  }
+  // Nor does a pixel far outside come back as such a ray.
+  EXPECT_FALSE(camera.BackProject(Eigen::Vector2d(5000.0, 121.2)).has_value());
+}
+
 // The bounds of ProjectBounds hold the exact pixel between them, a few 1e-4
 // px apart, over the whole image and beyond its edges (every 16 px, 20 px
 // outside), depths 0.05-20 m; they exist for almost all such points; and

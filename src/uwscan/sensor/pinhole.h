@@ -50,22 +50,59 @@ struct PinholeModel {
     jacobian[3] = radial + T(2) * y * y * dradial_dr2 + T(6) * p1 * y + T(2) * p2 * x;
   }
 
-  // Normalised coordinates -> pixel.
+  // True if the radial distortion r (1 + k1 r^2 + k2 r^4 + k3 r^6) still
+  // grows all the way from the centre out to r^2 = r2. Past its first fold
+  // it turns back and maps rays far outside the field of view into the
+  // image (with the tank camera's k1 -0.037, k2 0.0002 a ray 78 degrees off
+  // the axis lands near the centre), so nothing there is imaged. The
+  // tangential terms are small and left out.
+  static bool BeforeRadialFold(const double* distortion, double r2) {
+    const double k1 = distortion[0], k2 = distortion[1], k3 = distortion[4];
+    // d/dr of r * radial as a polynomial in s = r^2; it is 1 at the centre.
+    const auto slope = [&](double s) {
+      return 1.0 + s * (3.0 * k1 + s * (5.0 * k2 + s * 7.0 * k3));
+    };
+    if (!(slope(r2) > 0.0)) return false;
+    // Its lowest values between lie where its derivative 3 k1 + 10 k2 s +
+    // 21 k3 s^2 vanishes.
+    const double a = 21.0 * k3, b = 10.0 * k2, c = 3.0 * k1;
+    double turns[2];
+    int n = 0;
+    if (a == 0.0) {
+      if (b != 0.0) turns[n++] = -c / b;
+    } else if (const double discriminant = b * b - 4.0 * a * c; discriminant >= 0.0) {
+      const double q = -0.5 * (b + std::copysign(std::sqrt(discriminant), b));
+      turns[n++] = q / a;
+      if (q != 0.0) turns[n++] = c / q;
+    }
+    for (int i = 0; i < n; ++i) {
+      if (turns[i] > 0.0 && turns[i] < r2 && !(slope(turns[i]) > 0.0)) return false;
+    }
+    return true;
+  }
+
+  // Normalised coordinates -> pixel. False past the distortion's fold
+  // (BeforeRadialFold).
   template <typename T>
-  static void NormalizedToImage(const T* intrinsics, const T* distortion, const T& x, const T& y,
-                                T* pixel) {
+  [[nodiscard]] static bool NormalizedToImage(const T* intrinsics, const T* distortion, const T& x,
+                                              const T& y, T* pixel) {
+    const double radial[5] = {ScalarOf(distortion[0]), ScalarOf(distortion[1]), 0.0, 0.0,
+                              ScalarOf(distortion[4])};
+    if (!BeforeRadialFold(radial, ScalarOf(x * x + y * y))) return false;
     T xd, yd;
     Distort(distortion, x, y, &xd, &yd);
     pixel[0] = intrinsics[0] * xd + intrinsics[2];
     pixel[1] = intrinsics[1] * yd + intrinsics[3];
+    return true;
   }
 
-  // Camera-frame point -> pixel. False for points on or behind the camera plane.
+  // Camera-frame point -> pixel. False for points on or behind the camera
+  // plane, and for those past the distortion's fold.
   template <typename T>
   static bool Project(const T* intrinsics, const T* distortion, const T* point, T* pixel) {
     if (!(ScalarOf(point[2]) > 0.0)) return false;
-    NormalizedToImage(intrinsics, distortion, point[0] / point[2], point[1] / point[2], pixel);
-    return true;
+    return NormalizedToImage(intrinsics, distortion, point[0] / point[2], point[1] / point[2],
+                             pixel);
   }
 
   // Pixel -> normalised coordinates: inverts the distortion by damped Newton
@@ -151,14 +188,15 @@ struct PinholeModel {
     if (!(error < 1e-10 * (1.0 + std::hypot(xd, yd))) || !std::isfinite(xs) || !std::isfinite(ys)) {
       return false;
     }
-    // A solution where the distortion folds over is not the physical one:
-    // the pixel is outside the invertible region. There the Jacobian
-    // determinant or the radial factor turns non-positive.
+    // A solution where the distortion folds over, or beyond its first fold
+    // where it rises again, is not the physical one: the pixel is outside
+    // the invertible region.
     double jac[4];
     DistortJacobian(distortion, xs, ys, jac);
-    const double r2 = xs * xs + ys * ys;
-    const double radial = 1.0 + r2 * (distortion[0] + r2 * (distortion[1] + r2 * distortion[4]));
-    if (!(jac[0] * jac[3] - jac[1] * jac[2] > 0.0) || !(radial > 0.0)) return false;
+    if (!(jac[0] * jac[3] - jac[1] * jac[2] > 0.0) ||
+        !BeforeRadialFold(distortion, xs * xs + ys * ys)) {
+      return false;
+    }
     *x = xs;
     *y = ys;
     return true;

@@ -61,7 +61,7 @@ TEST(PinholeModel, UndistortMatchesOpenCvOverImage) {
     const Eigen::Vector3d theirs = Eigen::Vector3d(expected[i].x, expected[i].y, 1).normalized();
     EXPECT_LT(std::atan2(ours.cross(theirs).norm(), ours.dot(theirs)), 1e-9) << pixels[i];
     double back[2];
-    PinholeModel::NormalizedToImage(kIntrinsics, kDistortion, x, y, back);
+    ASSERT_TRUE(PinholeModel::NormalizedToImage(kIntrinsics, kDistortion, x, y, back));
     EXPECT_NEAR(back[0], pixels[i].x, 1e-9);
     EXPECT_NEAR(back[1], pixels[i].y, 1e-9);
   }
@@ -75,6 +75,44 @@ TEST(PinholeModel, RejectsPointsBehindAndFoldedPixels) {
   const double folded[5] = {-0.6, 0.0, 0.0, 0.0, 0.0};
   double x, y;
   EXPECT_FALSE(PinholeModel::ImageToNormalized(kIntrinsics, folded, 5000.0, 4000.0, &x, &y));
+}
+
+// The simulated tank camera's barrel distortion (k1 -0.037, k2 0.0002)
+// turns back at r^2 = 9.8905 (72 degrees off the axis) and rises again
+// past r^2 = 101. Rays beyond the first fold would land inside the image
+// (r = 5 lands at 1.0, r = 12.5 at 1.27, the image's corner near 1.02):
+// they are not imaged, and no pixel comes back as one of them.
+TEST(PinholeModel, NothingPastTheDistortionsFoldIsImaged) {
+  const double tank[5] = {-0.037, 0.0002, 0.0, 0.0, 0.0};
+  EXPECT_TRUE(PinholeModel::BeforeRadialFold(tank, 9.85));
+  EXPECT_FALSE(PinholeModel::BeforeRadialFold(tank, 9.95));
+  EXPECT_FALSE(PinholeModel::BeforeRadialFold(tank, 156.25));  // rising again there
+  const double none[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  EXPECT_TRUE(PinholeModel::BeforeRadialFold(none, 1e12));
+  const double barrel[5] = {-0.6, 0.0, 0.0, 0.0, 0.0};  // folds at r^2 = 1 / 1.8
+  EXPECT_TRUE(PinholeModel::BeforeRadialFold(barrel, 0.55));
+  EXPECT_FALSE(PinholeModel::BeforeRadialFold(barrel, 0.56));
+  // k3 alone: 1 - 0.07 s^3 turns at s = 2.43; with k2 it never does.
+  const double k3[5] = {0.0, 0.0, 0.0, 0.0, -0.01};
+  EXPECT_TRUE(PinholeModel::BeforeRadialFold(k3, 2.4));
+  EXPECT_FALSE(PinholeModel::BeforeRadialFold(k3, 2.5));
+  EXPECT_TRUE(PinholeModel::BeforeRadialFold(kDistortion, 1.04));  // the image's corner
+
+  const double intrinsics[4] = {785.0, 785.0, 640.0, 480.0};
+  double pixel[2];
+  const double inside[3] = {3.0, 0.0, 1.0};
+  ASSERT_TRUE(PinholeModel::Project(intrinsics, tank, inside, pixel));
+  double x, y;
+  ASSERT_TRUE(PinholeModel::ImageToNormalized(intrinsics, tank, pixel[0], pixel[1], &x, &y));
+  EXPECT_NEAR(x, 3.0, 1e-9);
+  EXPECT_NEAR(y, 0.0, 1e-9);
+  for (double r : {5.0, 12.5}) {
+    const double folded[3] = {r * 0.6, r * 0.8, 1.0};
+    EXPECT_FALSE(PinholeModel::Project(intrinsics, tank, folded, pixel)) << r;
+  }
+  // A pixel far out, whose only solution lies on the rising branch.
+  EXPECT_FALSE(
+      PinholeModel::ImageToNormalized(intrinsics, tank, 640.0 + 785.0 * 24.7, 480.0, &x, &y));
 }
 
 // Jacobians through Jets agree with central differences.
