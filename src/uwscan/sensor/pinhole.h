@@ -53,9 +53,10 @@ struct PinholeModel {
   // True if the radial distortion r (1 + k1 r^2 + k2 r^4 + k3 r^6) still
   // grows all the way from the centre out to r^2 = r2. Past its first fold
   // it turns back and maps rays far outside the field of view into the
-  // image (with the tank camera's k1 -0.037, k2 0.0002 a ray 78 degrees off
-  // the axis lands near the centre), so nothing there is imaged. The
-  // tangential terms are small and left out.
+  // image (with the tank camera's k1 -0.037, k2 0.0002 a ray 79 degrees off
+  // the axis lands at the image's corner, one 80 degrees off at its
+  // centre), so nothing there is imaged. The tangential terms are small
+  // and left out.
   static bool BeforeRadialFold(const double* distortion, double r2) {
     const double k1 = distortion[0], k2 = distortion[1], k3 = distortion[4];
     // d/dr of r * radial as a polynomial in s = r^2; it is 1 at the centre.
@@ -88,7 +89,8 @@ struct PinholeModel {
                                               const T& y, T* pixel) {
     const double radial[5] = {ScalarOf(distortion[0]), ScalarOf(distortion[1]), 0.0, 0.0,
                               ScalarOf(distortion[4])};
-    if (!BeforeRadialFold(radial, ScalarOf(x * x + y * y))) return false;
+    const double xs = ScalarOf(x), ys = ScalarOf(y);
+    if (!BeforeRadialFold(radial, xs * xs + ys * ys)) return false;
     T xd, yd;
     Distort(distortion, x, y, &xd, &yd);
     pixel[0] = intrinsics[0] * xd + intrinsics[2];

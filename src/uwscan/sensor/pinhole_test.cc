@@ -92,7 +92,7 @@ TEST(PinholeModel, NothingPastTheDistortionsFoldIsImaged) {
   const double barrel[5] = {-0.6, 0.0, 0.0, 0.0, 0.0};  // folds at r^2 = 1 / 1.8
   EXPECT_TRUE(PinholeModel::BeforeRadialFold(barrel, 0.55));
   EXPECT_FALSE(PinholeModel::BeforeRadialFold(barrel, 0.56));
-  // k3 alone: 1 - 0.07 s^3 turns at s = 2.43; with k2 it never does.
+  // k3 alone: the slope 1 - 0.07 s^3 reaches 0 at s = 2.43.
   const double k3[5] = {0.0, 0.0, 0.0, 0.0, -0.01};
   EXPECT_TRUE(PinholeModel::BeforeRadialFold(k3, 2.4));
   EXPECT_FALSE(PinholeModel::BeforeRadialFold(k3, 2.5));
