@@ -57,8 +57,10 @@ struct PinholeModel {
   // the axis lands at the image's corner, one 80 degrees off at its
   // centre), so nothing there is imaged. The tangential terms are small
   // and left out.
-  static bool BeforeRadialFold(const double* distortion, double r2) {
-    const double k1 = distortion[0], k2 = distortion[1], k3 = distortion[4];
+  template <typename T>
+  static bool BeforeRadialFold(const T* distortion, double r2) {
+    const double k1 = ScalarOf(distortion[0]), k2 = ScalarOf(distortion[1]),
+                 k3 = ScalarOf(distortion[4]);
     // d/dr of r * radial as a polynomial in s = r^2; it is 1 at the centre.
     const auto slope = [&](double s) {
       return 1.0 + s * (3.0 * k1 + s * (5.0 * k2 + s * 7.0 * k3));
@@ -87,10 +89,8 @@ struct PinholeModel {
   template <typename T>
   [[nodiscard]] static bool NormalizedToImage(const T* intrinsics, const T* distortion, const T& x,
                                               const T& y, T* pixel) {
-    const double radial[5] = {ScalarOf(distortion[0]), ScalarOf(distortion[1]), 0.0, 0.0,
-                              ScalarOf(distortion[4])};
     const double xs = ScalarOf(x), ys = ScalarOf(y);
-    if (!BeforeRadialFold(radial, xs * xs + ys * ys)) return false;
+    if (!BeforeRadialFold(distortion, xs * xs + ys * ys)) return false;
     T xd, yd;
     Distort(distortion, x, y, &xd, &yd);
     pixel[0] = intrinsics[0] * xd + intrinsics[2];
