@@ -239,7 +239,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   const int max_refinements = min_refinements == 0 ? 0 : options_.max_init_refinements;
   init_refinements_done_ = 0;
   init_settled_ = false;
-  init_last_move_m_ = init_last_turn_deg_ = 0.0;
+  init_last_change_.reset();
   // Every track_every-th held frame is tracked here, as once running; the
   // frames between are placed between the tracked ones around them.
   const size_t every = static_cast<size_t>(options_.track_every);
@@ -285,7 +285,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     const std::optional<PoseChange> change =
         refinement > 0 ? RmsPoseChange(previous_poses, poses) : std::nullopt;
     if (change) {
-      init_last_move_m_ = change->moved_m, init_last_turn_deg_ = change->turned_deg;
+      init_last_change_ = change;
       moved_m.push_back(change->moved_m);
     }
     init_settled_ = change && change->moved_m < options_.init_settled_m &&
@@ -564,9 +564,12 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"start_refinements", init_refinements_done_},
           {"start_settled",
            init_refinements_done_ > 1 ? nlohmann::json(init_settled_) : nlohmann::json()},
-          {"start_last_change_mm", 1e3 * init_last_move_m_},
+          {"start_last_change_mm",
+           init_last_change_ ? nlohmann::json(1e3 * init_last_change_->moved_m) : nlohmann::json()},
           {"start_settled_within_mm", 1e3 * options_.init_settled_m},
-          {"start_last_change_deg", init_last_turn_deg_},
+          {"start_last_change_deg",
+           init_last_change_ ? nlohmann::json(init_last_change_->turned_deg) : nlohmann::json()},
+          {"start_settled_within_deg", options_.init_settled_deg},
           {"keyframes", keyframes_},
           {"implausible_poses_rejected", implausible_},
           {"tracks_cut_by_laser_line", tracks_cut_by_line_},

@@ -305,10 +305,11 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
   // The start's refinements (init_refinements), whether its poses settled,
-  // and their last rms change.
+  // and their last rms change (none if no refinement tracked any of the
+  // held frames the one before had).
   int init_refinements_done_ = 0;
   bool init_settled_ = false;
-  double init_last_move_m_ = 0.0, init_last_turn_deg_ = 0.0;
+  std::optional<PoseChange> init_last_change_;
   // Start attempts whose held frames, placed with their tracked poses, no
   // longer spanned the scene's plane (their surface had one before).
   int init_refused_ = 0;

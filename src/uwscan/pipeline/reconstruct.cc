@@ -407,7 +407,10 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   report.seconds_earlier_passes = prior ? prior->seconds : retried ? retried->seconds : 0.0;
   if (retried) {
     report.tracking_retried_from_width = retried->pose_details.value("tracked_image_width", 0);
-    report.retried_start_change_mm = retried->pose_details.value("start_last_change_mm", 0.0);
+    // Null where no refinement measured a change (never run again then).
+    const nlohmann::json change =
+        retried->pose_details.value("start_last_change_mm", nlohmann::json());
+    report.retried_start_change_mm = change.is_number() ? change.get<double>() : 0.0;
   }
   report.seconds = SecondsSince(start) + report.seconds_earlier_passes;
   if (measured) measured->seconds = report.seconds;

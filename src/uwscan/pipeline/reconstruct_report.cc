@@ -146,19 +146,28 @@ namespace {
 // (BENCHMARKS.md, "Turbid water, measured again").
 constexpr double kFarFromSettled = 10.0;
 
-// How far the start's poses still moved at its last refinement and the
-// tolerance they settle within (mm rms), if they had not settled.
+// How far the start's poses still moved and turned at its last measured
+// refinement (none if no refinement tracked a held frame the one before
+// had) and the tolerances they settle within, if they had not settled.
 struct UnsettledStart {
-  double moved_mm = 0.0, within_mm = 0.0;
-  bool Far() const { return moved_mm > kFarFromSettled * within_mm; }
+  std::optional<double> moved_mm, turned_deg;
+  double within_mm = 0.0, within_deg = 0.0;
+  bool Far() const { return moved_mm && *moved_mm > kFarFromSettled * within_mm; }
 };
+std::optional<double> NumberAt(const nlohmann::json& object, const char* key) {
+  const auto found = object.find(key);
+  if (found == object.end() || !found->is_number()) return std::nullopt;
+  return found->get<double>();
+}
 std::optional<UnsettledStart> FindUnsettledStart(const nlohmann::json& pose_details) {
   if (!pose_details.is_object()) return std::nullopt;
   const auto settled = pose_details.find("start_settled");
   if (settled == pose_details.end() || !settled->is_boolean() || settled->get<bool>())
     return std::nullopt;
-  return UnsettledStart{pose_details.value("start_last_change_mm", 0.0),
-                        pose_details.value("start_settled_within_mm", 2.0)};
+  return UnsettledStart{NumberAt(pose_details, "start_last_change_mm"),
+                        NumberAt(pose_details, "start_last_change_deg"),
+                        NumberAt(pose_details, "start_settled_within_mm").value_or(2.0),
+                        NumberAt(pose_details, "start_settled_within_deg").value_or(0.05)};
 }
 
 }  // namespace
@@ -342,14 +351,25 @@ std::vector<std::string> ReconstructReport::Warnings() const {
           "rests on that start, its scale may be off by tens of percent and cloud.ply may be "
           "no better than cloud_uncompensated.ply (an INS trajectory with --poses places the "
           "cloud better){}",
-          count("start_refinements"), start->moved_mm, start->within_mm, smaller));
+          count("start_refinements"), *start->moved_mm, start->within_mm, smaller));
+    } else if (!start->moved_mm) {
+      warnings.push_back(fmt::format(
+          "the frames held at the start had not settled after {} refinements: the odometry "
+          "lost the held frames each time it tracked them again, so no two refinements could "
+          "be compared: the start of the trajectory may be off, and with it the rest (too few "
+          "features to track: a platform moving fast for the frame rate, turbid water, a dark "
+          "scene)",
+          count("start_refinements")));
     } else {
+      const std::string turned = start->turned_deg && *start->turned_deg >= start->within_deg
+                                     ? fmt::format(" and turned {:.2f} deg", *start->turned_deg)
+                                     : "";
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements (their poses still "
-          "moved {:.1f} mm rms): the start of the trajectory may be off, and with it the rest "
+          "moved {:.1f} mm{} rms): the start of the trajectory may be off, and with it the rest "
           "(a sweep too fast or too short for the scene's plane, or features too faint or noisy "
           "to track: turbid water, a dark scene; --max-init-refinements)",
-          count("start_refinements"), start->moved_mm));
+          count("start_refinements"), *start->moved_mm, turned));
     }
   }
   if (!tracking_retry_failed.empty()) {

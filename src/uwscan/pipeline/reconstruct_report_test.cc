@@ -126,6 +126,26 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   EXPECT_TRUE(says(unsettled, 0, "(their poses still moved 19.3 mm rms): the start of the"));
   EXPECT_EQ(unsettled.Warnings()[0].find("whole trajectory"), std::string::npos);
   EXPECT_EQ(unsettled.Warnings()[0].find("--max-tracking-width"), std::string::npos);
+  // Still turning while it barely moved: the turn is said too.
+  unsettled.pose_details["start_settled_within_deg"] = 0.05;
+  unsettled.pose_details["start_last_change_mm"] = 0.4;
+  unsettled.pose_details["start_last_change_deg"] = 0.13;
+  EXPECT_TRUE(says(unsettled, 0, "(their poses still moved 0.4 mm and turned 0.13 deg rms)"));
+  unsettled.pose_details["start_last_change_deg"] = 0.01;
+  EXPECT_TRUE(says(unsettled, 0, "(their poses still moved 0.4 mm rms)"));
+  // No refinement tracked a held frame the one before had (null): no
+  // "moved 0.0 mm", and no run again on half the image.
+  unsettled.pose_details["start_last_change_mm"] = nullptr;
+  unsettled.pose_details["start_last_change_deg"] = nullptr;
+  unsettled.pose_details["tracked_image_width"] = 640;
+  ASSERT_EQ(unsettled.Warnings().size(), 1u);
+  EXPECT_TRUE(says(unsettled, 0,
+                   "had not settled after 3 refinements: the odometry lost the held frames each "
+                   "time it tracked them again, so no two refinements could be compared"));
+  EXPECT_EQ(unsettled.Warnings()[0].find("mm"), std::string::npos);
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
+  unsettled.pose_details.erase("tracked_image_width");
+  unsettled.pose_details.erase("start_last_change_deg");
   unsettled.pose_details["start_last_change_mm"] = 22.2;
   ASSERT_EQ(unsettled.Warnings().size(), 1u);
   EXPECT_TRUE(says(unsettled, 0, "still moved 22.2 mm rms, more than ten times the 2 mm"));
