@@ -75,7 +75,7 @@ void RegisterReconstructCommand(CLI::App& app) {
                 "DATASET/NAME/; by default they join the cloud, placed with the main camera's "
                 "poses through the rig)");
   cmd->add_option("--laser", job->laser_name, "laser name (default: the first)");
-  cmd->add_option("--max-frames", job->max_frames, "process only the first N frames");
+  cmd->add_option("--max-frames", job->max_frames, "process only the first N frames (0 = all)");
   cmd->add_flag("--keep-static-detections", *keep_static,
                 "keep line candidates that behave like scene texture (removed by default, "
                 "thesis §5.5: on servo scans those that stay put while the laser sweeps, with a "

@@ -69,7 +69,7 @@ void RegisterVoCommand(CLI::App& app) {
                                 "windowed BA on a second thread, its result joining the map 8 "
                                 "frames later (frames are not held up by it); by default above "
                                 "100 Hz");
-  vo->add_option("--max-frames", job->max_frames, "stop after this many frames");
+  vo->add_option("--max-frames", job->max_frames, "stop after this many frames (0 = all)");
   vo->add_flag("--quiet", job->quiet, "no progress and no summary");
 
   auto synth_options = std::make_shared<SyntheticVoOptions>();

@@ -51,6 +51,9 @@ void VoJob::Check() const {
   if (!(pinhole_fit_depth_m > 0)) throw UsageError("--pinhole-fit-depth must be > 0");
   if (mask_margin_px < 0) throw UsageError("--mask-margin must be >= 0");
   if (max_tracking_width < 0) throw UsageError("--max-tracking-width must be >= 0");
+  if (max_frames < 0) {
+    throw UsageError("--max-frames must be >= 0 (0 = all), got " + std::to_string(max_frames));
+  }
   CheckContrastScale(contrast_sigma_fraction);
   CheckOdometryFlags(odometry);
   odometry.Check();
@@ -150,8 +153,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   std::vector<std::string> status_lines;
   std::vector<std::string> reasons;  // per frame: status and message
   const bool progress = !job.quiet && isatty(STDERR_FILENO);
-  const int total = job.max_frames < 0 ? int(dataset.frames.size())
-                                       : std::min(job.max_frames, int(dataset.frames.size()));
+  const int total = job.max_frames == 0 ? int(dataset.frames.size())
+                                        : std::min(job.max_frames, int(dataset.frames.size()));
   auto warn = [&](const std::string& message) {
     if (summary.warnings.size() < 20) summary.warnings.push_back(message);
   };

@@ -25,7 +25,7 @@ struct VoJob {
   double pinhole_fit_depth_m = 3.0;
   bool mask_laser = false;
   double mask_margin_px = 6.0;  // dilation of the detector's mask (KLT window support)
-  int max_frames = -1;          // < 0: all
+  int max_frames = 0;           // 0: all
   // Frames wider than this are tracked at half (quarter, ...) resolution:
   // a raw Bayer frame through the passive colour's own samples (no
   // demosaicking), as the self-referenced scan does. 0: full resolution.

@@ -8,6 +8,7 @@
 
 #include "uwscan/pipeline/testing.h"
 #include "uwscan/pipeline/vo_synthetic.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
@@ -56,8 +57,13 @@ TEST(VoRun, HeldKeyframesBeforeTheWindowHalveTheDrift) {
   first_frames.mask_laser = true;
   first_frames.quiet = true;
   first_frames.max_frames = 60;
-  for (const std::string& warning : RunVisualOdometry(first_frames).warnings)
+  const VoRunSummary first = RunVisualOdometry(first_frames);
+  EXPECT_EQ(first.frames, 60);
+  for (const std::string& warning : first.warnings)
     EXPECT_EQ(warning.find("waited to start"), std::string::npos) << warning;
+  // --max-frames 0 is every frame, as for `reconstruct`; below 0 is a usage error.
+  first_frames.max_frames = -1;
+  EXPECT_THROW(first_frames.Check(), UsageError);
   fs::remove_all(root);
 }
 
