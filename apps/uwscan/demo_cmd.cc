@@ -69,17 +69,26 @@ void RunDemo(const DemoArgs& args) {
   const SurfaceAccuracy* compensated = evaluation.compensated.Surface("checkerboard");
   const SurfaceAccuracy* uncompensated = evaluation.uncompensated.Surface("checkerboard");
   std::printf("3. against the simulator's truth (checkerboard target):\n");
-  if (compensated && uncompensated && compensated->points > 0) {
+  if (compensated && uncompensated && compensated->fitted && uncompensated->fitted) {
     std::printf("   plane std %.2f mm compensated vs %.2f mm uncompensated\n",
                 compensated->fit_rms_m * 1e3, uncompensated->fit_rms_m * 1e3);
-    std::printf("   distance error along the target %.2f %% vs %.2f %%\n",
-                compensated->distance_error_mean_pct, uncompensated->distance_error_mean_pct);
+    if (compensated->distance_pairs > 0 && uncompensated->distance_pairs > 0) {
+      std::printf("   distance error along the target %.2f %% vs %.2f %%\n",
+                  compensated->distance_error_mean_pct, uncompensated->distance_error_mean_pct);
+    }
+  } else if (compensated && compensated->points > 0) {
+    std::printf(
+        "   the laser crossed the target in too few points to fit its plane (%ld): simulate "
+        "more frames (--frames)\n",
+        compensated->points);
   } else {
     std::printf("   the laser did not reach the target in this sequence\n");
   }
-  std::printf("   point error (all surfaces) %.1f mm vs %.1f mm\n",
-              evaluation.compensated.point_error_rms_m * 1e3,
-              evaluation.uncompensated.point_error_rms_m * 1e3);
+  if (evaluation.compensated.matched > 0 && evaluation.uncompensated.matched > 0) {
+    std::printf("   point error (all surfaces) %.1f mm vs %.1f mm\n",
+                evaluation.compensated.point_error_rms_m * 1e3,
+                evaluation.uncompensated.point_error_rms_m * 1e3);
+  }
   std::printf("cloud: %s (open with CloudCompare, MeshLab or Open3D)\n",
               (job.out / "cloud.ply").string().c_str());
   folder.Keep();

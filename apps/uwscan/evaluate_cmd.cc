@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 
 #include "commands.h"
 #include "uwscan/eval/trajectory_metrics.h"
@@ -17,22 +18,36 @@ namespace uwscan::cli {
 namespace {
 namespace fs = std::filesystem;
 
+// A figure, or blank where it was not measured.
+std::string Figure(bool measured, const char* format, double value) {
+  if (!measured) return "";
+  char text[32];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
 void PrintCloudEvaluation(const ReconstructionEvaluation& evaluation) {
   std::printf("%-16s %-12s %8s %12s %22s %14s %12s\n", "cloud", "surface", "points", "fit std mm",
               "robust fit mm (drop)", "point err mm", "dist err %");
+  bool too_few = false;
   for (const auto& [label, cloud] : {std::pair{"compensated", &evaluation.compensated},
                                      std::pair{"uncompensated", &evaluation.uncompensated}}) {
-    std::printf("%-16s %-12s %8ld %12s %22s %14.3f %12s\n", label, "(all)", cloud->matched, "", "",
-                cloud->point_error_rms_m * 1e3, "");
+    std::printf("%-16s %-12s %8ld %12s %22s %14s %12s\n", label, "(all)", cloud->matched, "", "",
+                Figure(cloud->matched > 0, "%.3f", cloud->point_error_rms_m * 1e3).c_str(), "");
     for (const auto& s : cloud->surfaces) {
       if (s.points == 0) continue;
-      char robust[32] = "";
-      if (s.robust_fit_rms_m > 0.0)
-        std::snprintf(robust, sizeof(robust), "%.3f (%ld)", s.robust_fit_rms_m * 1e3,
-                      s.robust_outliers);
-      std::printf("%-16s %-12s %8ld %12.3f %22s %14.3f %12.3f\n", label, s.name.c_str(), s.points,
-                  s.fit_rms_m * 1e3, robust, s.point_error_rms_m * 1e3, s.distance_error_mean_pct);
+      too_few |= !s.Measured();
+      std::string robust = Figure(s.robust_fitted, "%.3f", s.robust_fit_rms_m * 1e3);
+      if (s.robust_fitted) robust += " (" + std::to_string(s.robust_outliers) + ")";
+      std::printf("%-16s %-12s %8ld %12s %22s %14s %12s\n", label, s.name.c_str(), s.points,
+                  Figure(s.fitted, "%.3f", s.fit_rms_m * 1e3).c_str(), robust.c_str(),
+                  Figure(s.Measured(), "%.3f", s.point_error_rms_m * 1e3).c_str(),
+                  Figure(s.distance_pairs > 0, "%.3f", s.distance_error_mean_pct).c_str());
     }
+  }
+  if (too_few) {
+    std::printf("(a surface with fewer than %ld points is counted, not measured)\n",
+                SurfaceAccuracy::kMinPoints);
   }
 }
 

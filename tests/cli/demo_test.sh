@@ -50,6 +50,16 @@ awk -v c="$comp" -v u="$unc" 'BEGIN { exit !(c < 5 && 3 * c < u) }' \
   || fail "demo into its own folder again: $(cat "$dir/err")"
 grep -q "^1\. simulated 20 frames" "$dir/out2" || fail "second demo did not simulate again"
 [ "$(grep -vc '^#' "$dir/demo/dataset/groundtruth.tum")" -eq 20 ] || fail "dataset not replaced"
+grep -q "^   the laser did not reach the target in this sequence$" "$dir/out2" \
+  || fail "20 frames: the target's figures without the target: $(cat "$dir/out2")"
+
+# A scan whose laser crossed the target in a few points only: said so, not
+# a plane std of 0.00 mm (the fit needs 10).
+"$bin" demo --frames 40 --width 320 --height 240 --seed 77 --quiet --out "$dir/short" \
+  >"$dir/out3" 2>"$dir/err" || fail "demo --seed 77: $(cat "$dir/err")"
+grep -q "^   the laser crossed the target in too few points to fit its plane ([1-9]): simulate more frames (--frames)$" \
+  "$dir/out3" || fail "a few points on the target: $(cat "$dir/out3")"
+grep -q "plane std\|distance error" "$dir/out3" && fail "figures from a few points: $(cat "$dir/out3")"
 
 # Usage errors: exit 2, nothing written; an output that cannot be a folder:
 # exit 1, named.

@@ -55,35 +55,45 @@ void RobustFit(const std::vector<Eigen::Vector3d>& points, const FitResiduals& r
     kept.clear();
     for (size_t i = 0; i < points.size(); ++i)
       if (magnitudes[i] <= gate) kept.push_back(points[i]);
-    if (kept.size() < 10) return;
+    if (static_cast<long>(kept.size()) < SurfaceAccuracy::kMinPoints) return;
   }
   const auto final_residuals = residuals(kept, kept);
   if (!final_residuals) return;
+  out->robust_fitted = true;
   out->robust_fit_rms_m = Rms(*final_residuals);
   out->robust_outliers = static_cast<long>(points.size() - kept.size());
 }
 
 }  // namespace
 
+namespace {
+template <typename T>
+nlohmann::json MeasuredOrNull(bool measured, T value) {
+  return measured ? nlohmann::json(value) : nlohmann::json();
+}
+}  // namespace
+
 nlohmann::json SurfaceAccuracy::ToJson() const {
+  const bool distances = distance_pairs > 0;
   return {{"name", name},
           {"type", type},
           {"points", points},
-          {"fit_rms_mm", fit_rms_m * 1e3},
-          {"fit_max_abs_mm", fit_max_abs_m * 1e3},
-          {"robust_fit_rms_mm", robust_fit_rms_m * 1e3},
-          {"robust_outliers", robust_outliers},
-          {"point_error_rms_mm", point_error_rms_m * 1e3},
-          {"distance_error_mean_pct", distance_error_mean_pct},
-          {"distance_error_median_pct", distance_error_median_pct},
+          {"fit_rms_mm", MeasuredOrNull(fitted, fit_rms_m * 1e3)},
+          {"fit_max_abs_mm", MeasuredOrNull(fitted, fit_max_abs_m * 1e3)},
+          {"robust_fit_rms_mm", MeasuredOrNull(robust_fitted, robust_fit_rms_m * 1e3)},
+          {"robust_outliers", MeasuredOrNull(robust_fitted, robust_outliers)},
+          {"point_error_rms_mm", MeasuredOrNull(Measured(), point_error_rms_m * 1e3)},
+          {"distance_error_mean_pct", MeasuredOrNull(distances, distance_error_mean_pct)},
+          {"distance_error_median_pct", MeasuredOrNull(distances, distance_error_median_pct)},
           {"distance_pairs", distance_pairs}};
 }
 
 nlohmann::json CloudAccuracy::ToJson() const {
-  nlohmann::json json = {{"points", points},
-                         {"matched", matched},
-                         {"point_error_rms_mm", point_error_rms_m * 1e3},
-                         {"point_error_median_mm", point_error_median_m * 1e3}};
+  nlohmann::json json = {
+      {"points", points},
+      {"matched", matched},
+      {"point_error_rms_mm", MeasuredOrNull(matched > 0, point_error_rms_m * 1e3)},
+      {"point_error_median_mm", MeasuredOrNull(matched > 0, point_error_median_m * 1e3)}};
   json["surfaces"] = nlohmann::json::array();
   for (const auto& s : surfaces) json["surfaces"].push_back(s.ToJson());
   return json;
@@ -144,7 +154,7 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
     result.name = surface.name;
     result.type = sim::SurfaceTypeName(surface.type);
     result.points = static_cast<long>(reconstructed[s].size());
-    if (result.points < 10) {
+    if (!result.Measured()) {
       accuracy.surfaces.push_back(result);
       continue;
     }
@@ -155,6 +165,7 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
     result.point_error_rms_m = Rms(point_errors);
     if (surface.type == sim::SurfaceType::kPlane) {
       if (const auto plane = FitPlane(reconstructed[s])) {
+        result.fitted = true;
         result.fit_rms_m = plane->rms;
         result.fit_max_abs_m = plane->max_abs;
       }
@@ -178,6 +189,7 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
       const Eigen::Vector3d towards = surface.world_from_surface.translation - centroid;
       const Eigen::Vector3d towards_axis = towards - towards.dot(axis) * axis;
       if (const auto cylinder = FitCylinder(reconstructed[s], axis, surface.radius, towards_axis)) {
+        result.fitted = true;
         result.fit_rms_m = cylinder->rms;
         for (const auto& p : reconstructed[s]) {
           result.fit_max_abs_m = std::max(result.fit_max_abs_m, std::abs(cylinder->Residual(p)));

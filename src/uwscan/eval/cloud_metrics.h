@@ -15,28 +15,35 @@
 
 namespace uwscan {
 
+// A surface with fewer than kMinPoints points is counted, not measured;
+// each figure below is measured only where its flag (or count) says so,
+// and is 0 otherwise.
 struct SurfaceAccuracy {
+  static constexpr long kMinPoints = 10;
   std::string name;
   std::string type;  // plane | cylinder | hull
   long points = 0;
+  bool fitted = false;     // fit_rms_m, fit_max_abs_m: the plane or cylinder fit succeeded
   double fit_rms_m = 0.0;  // std of signed distances to the fitted plane / cylinder residual
   double fit_max_abs_m = 0.0;
   // The same fit without gross outliers (mixed pixels where the line jumps
   // between a surface and what is behind it, e.g. the shaft's silhouette):
   // points farther than max(5 robust sigmas (1.4826 MAD), 5 mm) from the
   // fit are dropped and the shape refitted, twice.
+  bool robust_fitted = false;
   double robust_fit_rms_m = 0.0;
   long robust_outliers = 0;
-  double point_error_rms_m = 0.0;        // |reconstructed - true|
+  double point_error_rms_m = 0.0;        // |reconstructed - true|, from kMinPoints points
   double distance_error_mean_pct = 0.0;  // planes: |d_rec - d_true| / d_true over point pairs
   double distance_error_median_pct = 0.0;
-  int distance_pairs = 0;
-  nlohmann::json ToJson() const;
+  int distance_pairs = 0;  // the distance errors' pairs (none: not measured)
+  bool Measured() const { return points >= kMinPoints; }
+  nlohmann::json ToJson() const;  // null for what was not measured
 };
 
 struct CloudAccuracy {
   long points = 0;
-  long matched = 0;  // with a true position on the scene
+  long matched = 0;  // with a true position on the scene (none: no point error)
   double point_error_rms_m = 0.0;
   double point_error_median_m = 0.0;
   std::vector<SurfaceAccuracy> surfaces;
