@@ -100,13 +100,20 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
     est_positions.push_back(est[i].translation);
     gt_positions.push_back(gt[i].translation);
   }
-  const std::optional<Sim3d> alignment =
-      AlignSim3(est_positions, gt_positions, options.align_scale);
-  UWS_CHECK(alignment.has_value(),
-            "trajectory metrics: positions are degenerate (collinear or identical), "
-            "cannot align");
+  std::optional<Sim3d> alignment = AlignSim3(est_positions, gt_positions, options.align_scale);
+  if (!alignment) {
+    double farthest = 0.0;
+    for (const Eigen::Vector3d& p : gt_positions)
+      farthest = std::max(farthest, (p - gt_positions.front()).norm());
+    UWS_CHECK(farthest < TrajectoryMetrics::kStillM,
+              "trajectory metrics: positions are degenerate (collinear or identical), "
+              "cannot align");
+    const Rigid3d first = gt.front() * est.front().Inverse();
+    alignment = Sim3d{1.0, first.rotation, first.translation};
+    metrics.aligned_by_first_pose = true;
+  }
   metrics.alignment = *alignment;
-  if (options.align_scale) {
+  if (options.align_scale && !metrics.aligned_by_first_pose) {
     const auto [low, high] = ScaleInterval(est_positions, gt_positions);
     metrics.scale_interval_low = low, metrics.scale_interval_high = high;
   }
@@ -181,6 +188,8 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
       unexplained_squared += (t_error + w_error.cross(viewed)).squaredNorm();
     }
   }
+  metrics.motion_translation_measured = t_true > 0;
+  metrics.motion_rotation_measured = r_true > 0;
   metrics.motion_translation_ratio = t_true > 0 ? t_cross / t_true : 1.0;
   metrics.motion_rotation_ratio = r_true > 0 ? r_cross / r_true : 1.0;
   if (options.viewed_depth_m > 0 && v_true > 0) {
@@ -222,13 +231,23 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   return metrics;
 }
 
+namespace {
+nlohmann::json NumberOrNull(bool measured, double value) {
+  return measured ? nlohmann::json(value) : nlohmann::json();
+}
+}  // namespace
+
 nlohmann::json TrajectoryMetrics::ToJson() const {
+  const bool drift = drift_segments > 0;
   nlohmann::json json = {
       {"associated", associated},
       {"path_length_m", path_length_m},
       {"sim3",
        {{"scale", alignment.scale},
-        {"scale_interval_95", {scale_interval_low, scale_interval_high}},
+        {"scale_interval_95", aligned_by_first_pose
+                                  ? nlohmann::json()
+                                  : nlohmann::json({scale_interval_low, scale_interval_high})},
+        {"aligned_by_first_pose", aligned_by_first_pose},
         {"rotation_wxyz",
          {alignment.rotation.w(), alignment.rotation.x(), alignment.rotation.y(),
           alignment.rotation.z()}},
@@ -244,13 +263,13 @@ nlohmann::json TrajectoryMetrics::ToJson() const {
         {"rotation_mean_deg", rpe_rot_mean_deg}}},
       {"drift",
        {{"segments", drift_segments},
-        {"translation_percent", drift_trans_percent},
-        {"rotation_deg_per_m", drift_rot_deg_per_m},
+        {"translation_percent", NumberOrNull(drift, drift_trans_percent)},
+        {"rotation_deg_per_m", NumberOrNull(drift, drift_rot_deg_per_m)},
         {"lengths_m", drift_lengths_m}}},
       {"motion",
        {{"lag_frames", motion_lag},
-        {"translation_ratio", motion_translation_ratio},
-        {"rotation_ratio", motion_rotation_ratio}}}};
+        {"translation_ratio", NumberOrNull(motion_translation_measured, motion_translation_ratio)},
+        {"rotation_ratio", NumberOrNull(motion_rotation_measured, motion_rotation_ratio)}}}};
   if (viewed_depth_m > 0) {
     json["motion"]["viewed_depth_m"] = viewed_depth_m;
     json["motion"]["viewed_point_ratio"] = viewed_motion_ratio;
@@ -261,20 +280,48 @@ nlohmann::json TrajectoryMetrics::ToJson() const {
 
 std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
   char buffer[1024];
+  std::string out;
+  if (m.aligned_by_first_pose) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "poses: %d associated, ground-truth path %.3f m: the platform stands still, "
+                  "so the estimate is aligned through its first pose (no scale)\n",
+                  m.associated, m.path_length_m);
+  } else {
+    std::snprintf(buffer, sizeof(buffer),
+                  "poses: %d associated, ground-truth path %.3f m, Sim(3) scale %.6g "
+                  "(95 %% block-bootstrap interval %.4g-%.4g)\n",
+                  m.associated, m.path_length_m, m.alignment.scale, m.scale_interval_low,
+                  m.scale_interval_high);
+  }
+  out += buffer;
   std::snprintf(buffer, sizeof(buffer),
-                "poses: %d associated, ground-truth path %.3f m, Sim(3) scale %.6g "
-                "(95 %% block-bootstrap interval %.4g-%.4g)\n"
                 "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n"
-                "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n"
-                "drift (KITTI, %d segments): %.3f %% translation, %.4f deg/m rotation\n"
-                "motion over %d frames, estimated / true (no alignment): translation %.4f, "
-                "rotation %.4f\n",
-                m.associated, m.path_length_m, m.alignment.scale, m.scale_interval_low,
-                m.scale_interval_high, m.ate_rmse_m, m.ate_mean_m, m.ate_median_m, m.ate_max_m,
-                1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg, m.rpe_pairs, m.drift_segments,
-                m.drift_trans_percent, m.drift_rot_deg_per_m, m.motion_lag,
-                m.motion_translation_ratio, m.motion_rotation_ratio);
-  std::string out = buffer;
+                "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n",
+                m.ate_rmse_m, m.ate_mean_m, m.ate_median_m, m.ate_max_m, 1e3 * m.rpe_trans_rmse_m,
+                1e3 * m.rpe_rot_rmse_deg, m.rpe_pairs);
+  out += buffer;
+  if (m.drift_segments > 0) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "drift (KITTI, %d segments): %.3f %% translation, %.4f deg/m rotation\n",
+                  m.drift_segments, m.drift_trans_percent, m.drift_rot_deg_per_m);
+  } else {
+    std::snprintf(buffer, sizeof(buffer),
+                  "drift (KITTI): no segment (the path is shorter than every length)\n");
+  }
+  out += buffer;
+  const auto ratio = [](bool measured, double value, const char* unmeasured) {
+    if (!measured) return std::string("- (the truth does not ") + unmeasured + ")";
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.4f", value);
+    return std::string(text);
+  };
+  std::snprintf(buffer, sizeof(buffer),
+                "motion over %d frames, estimated / true (no alignment): translation %s, "
+                "rotation %s\n",
+                m.motion_lag,
+                ratio(m.motion_translation_measured, m.motion_translation_ratio, "move").c_str(),
+                ratio(m.motion_rotation_measured, m.motion_rotation_ratio, "turn").c_str());
+  out += buffer;
   if (m.viewed_depth_m > 0) {
     std::snprintf(buffer, sizeof(buffer),
                   "the point %.3f m ahead on the optical axis (the scene): moved %.4f of the "

@@ -39,6 +39,12 @@ struct TrajectoryMetrics {
   int associated = 0;        // pose pairs used
   double path_length_m = 0;  // ground-truth path length over the associated poses
   Sim3d alignment;           // ground_truth_world_from_estimate_world
+  // A platform that stands still (a static scan: the ground truth's
+  // positions all within kStillM of its first) leaves no motion to align:
+  // the estimate is then aligned through its first associated pose, scale
+  // 1, and the ATE says how far it wandered from where it started.
+  static constexpr double kStillM = 1e-6;
+  bool aligned_by_first_pose = false;
   // 95 % interval of the Sim(3) scale by a block bootstrap over time (20
   // blocks of consecutive poses, 200 resamples): how well the positions
   // pin the scale down. Narrow on a transect; on a hover whose positions
@@ -50,7 +56,8 @@ struct TrajectoryMetrics {
   double rpe_trans_rmse_m = 0, rpe_rot_rmse_deg = 0;
   double rpe_trans_mean_m = 0, rpe_rot_mean_deg = 0;
   int rpe_pairs = 0;
-  // KITTI drift averaged over all segments of all lengths.
+  // KITTI drift averaged over all segments of all lengths (none on a path
+  // shorter than every length: 0, null in JSON).
   double drift_trans_percent = 0, drift_rot_deg_per_m = 0;
   int drift_segments = 0;
   std::vector<double> drift_lengths_m;
@@ -60,8 +67,11 @@ struct TrajectoryMetrics {
   // `motion_lag` ground-truth frames apart. A scale error shows in the
   // first alone; the hover's rotation-about-the-scene mode moves them in
   // opposite directions; a focal-length error moves both alike.
+  // Not measured (1, null in JSON) where the truth neither moves nor turns
+  // over such pairs.
   int motion_lag = 0;
   double motion_translation_ratio = 1.0, motion_rotation_ratio = 1.0;
+  bool motion_translation_measured = false, motion_rotation_measured = false;
   // With options.viewed_depth_m (else 0 / 1): over the same pairs, the
   // least-squares ratio, estimated over true, of how far the point
   // viewed_depth_m ahead of the camera on its optical axis moved; and the
@@ -80,7 +90,8 @@ struct TrajectoryMetrics {
 };
 
 // Associates `estimate` with `ground_truth` by timestamp and computes the
-// metrics. Throws uwscan::Error when fewer than 3 poses associate.
+// metrics. Throws uwscan::Error when fewer than 3 poses associate, or when
+// the positions cannot be aligned and the ground truth moves.
 TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estimate,
                                            const std::vector<StampedPose>& ground_truth,
                                            const TrajectoryMetricsOptions& options = {});

@@ -225,5 +225,61 @@ TEST(TrajectoryMetrics, ViewedMotionSeparatesATurnAboutTheSceneFromAScaleError) 
   EXPECT_THROW(ComputeTrajectoryMetrics(turned, truth, options), Error);
 }
 
+// A static scan (a laser on a servo, the platform standing still): no
+// motion to align by. The estimate is aligned through its first pose and
+// the ATE is how far it wandered; the scale, the drift and the motion
+// ratios are not measured (null), not shown as 1 or 0. A ground truth that
+// moves but cannot be aligned is still an error.
+TEST(TrajectoryMetrics, AStillPlatformIsAlignedByItsFirstPose) {
+  const Rigid3d standing(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
+                         Eigen::Vector3d(1.0, 2.0, 2.0));
+  std::vector<StampedPose> truth, estimate;
+  for (int i = 0; i < 40; ++i) {
+    truth.push_back({0.01 * i, standing});
+    // The estimate in its own world (the first camera's), wandering 1 mm
+    // along x by the end.
+    const Rigid3d wander(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.001 * i / 39.0, 0, 0));
+    estimate.push_back({0.01 * i, wander});
+  }
+  const TrajectoryMetrics m = ComputeTrajectoryMetrics(estimate, truth);
+  EXPECT_TRUE(m.aligned_by_first_pose);
+  EXPECT_EQ(m.associated, 40);
+  EXPECT_DOUBLE_EQ(m.alignment.scale, 1.0);
+  EXPECT_NEAR(m.ate_max_m, 0.001, 1e-12);  // the last pose, 1 mm from the first
+  EXPECT_NEAR(m.ate_mean_m, 0.0005, 1e-12);
+  EXPECT_EQ(m.drift_segments, 0);
+  EXPECT_FALSE(m.motion_translation_measured || m.motion_rotation_measured);
+  const nlohmann::json json = m.ToJson();
+  EXPECT_TRUE(json["sim3"]["aligned_by_first_pose"].get<bool>());
+  EXPECT_TRUE(json["sim3"]["scale_interval_95"].is_null());
+  EXPECT_TRUE(json["drift"]["translation_percent"].is_null());
+  EXPECT_TRUE(json["motion"]["translation_ratio"].is_null());
+  EXPECT_TRUE(json["motion"]["rotation_ratio"].is_null());
+  const std::string text = FormatTrajectoryMetrics(m);
+  EXPECT_NE(text.find("the platform stands still, so the estimate is aligned through its first "
+                      "pose (no scale)"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("drift (KITTI): no segment"), std::string::npos) << text;
+  EXPECT_NE(text.find("translation - (the truth does not move), rotation - (the truth does not "
+                      "turn)"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("Sim(3) scale"), std::string::npos) << text;
+
+  // A moving truth is aligned by Sim(3) as before.
+  std::vector<StampedPose> moving = truth;
+  for (size_t i = 0; i < moving.size(); ++i)
+    moving[i].world_from_camera.translation += Eigen::Vector3d(0.01 * i, 0.002 * (i % 3), 0);
+  const TrajectoryMetrics aligned = ComputeTrajectoryMetrics(moving, moving);
+  EXPECT_FALSE(aligned.aligned_by_first_pose);
+  EXPECT_TRUE(aligned.ToJson()["sim3"]["scale_interval_95"].is_array());
+  // A truth along a line (degenerate for Sim(3)) that moves: still an error.
+  std::vector<StampedPose> line = truth;
+  for (size_t i = 0; i < line.size(); ++i)
+    line[i].world_from_camera.translation += Eigen::Vector3d(0.01 * i, 0, 0);
+  EXPECT_THROW(ComputeTrajectoryMetrics(line, line), Error);
+}
+
 }  // namespace
 }  // namespace uwscan
