@@ -34,6 +34,13 @@ grep -q "^|.*Flat1" "$dir/proj.md" || fail "bench projection --markdown: no tabl
 "$bin" bench laser --dataset "$dir/none" >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] || fail "bench laser --dataset none: want exit 1"
 grep -q "$dir/none" "$dir/err" || fail "bench laser --dataset none: does not name it"
+# Options out of range are usage errors (exit 2), as elsewhere.
+for bad in "laser --frames 0" "pipeline --dataset $dir/none --frames 5" "projection --points 10" \
+  "tracks --dataset $dir/none --anchor-every 0" "laser-accuracy --frames 0"; do
+  "$bin" bench $bad >/dev/null 2>"$dir/err"
+  [ $? -eq 2 ] || fail "bench $bad: want exit 2, got: $(cat "$dir/err")"
+  grep -q "must be" "$dir/err" || fail "bench $bad: unclear error: $(cat "$dir/err")"
+done
 
 # Laser accuracy against the simulator's true line: the thesis detector is
 # sub-pixel in clear water, and an RMS over no detections is "-", not 0.

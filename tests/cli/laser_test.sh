@@ -110,4 +110,10 @@ grep -q "000.pgm: image is 160x120 but camera 'cam0' is 320x240" "$dir/err" || f
 [ ! -e "$dir/y.csv" ] || fail "no output on error"
 "$bin" laser detect --images "$dir/frames" --out "$dir/z.csv" --method hough 2>/dev/null
 [ $? -eq 2 ] || fail "bad method should exit 2"
+for bad in "--sigma 0" "--scan diagonal" "--channel infrared" "--albedo purple"; do
+  "$bin" laser detect --images "$dir/frames" --out "$dir/z.csv" $bad 2>"$dir/err"
+  [ $? -eq 2 ] || fail "$bad should exit 2"
+  grep -q -- "${bad%% *} must be" "$dir/err" || fail "$bad: unclear error: $(cat "$dir/err")"
+  [ ! -e "$dir/z.csv" ] || fail "$bad wrote output"
+done
 echo "laser CLI: all checks passed"

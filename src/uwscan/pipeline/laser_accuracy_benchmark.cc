@@ -13,9 +13,9 @@
 namespace uwscan {
 
 void LaserAccuracyBenchmarkOptions::Check() const {
-  UWS_CHECK(width >= 64 && height >= 48, "laser accuracy: resolution too small");
-  UWS_CHECK(frames >= 1, "laser accuracy: --frames must be >= 1");
-  UWS_CHECK(!turbidities.empty(), "laser accuracy: no turbidity given");
+  UWS_USAGE_CHECK(width >= 64 && height >= 48, "laser accuracy: resolution too small");
+  UWS_USAGE_CHECK(frames >= 1, "laser accuracy: --frames must be >= 1");
+  UWS_USAGE_CHECK(!turbidities.empty(), "laser accuracy: no turbidity given");
 }
 
 namespace {

@@ -13,9 +13,9 @@
 namespace uwscan {
 
 void LaserBenchmarkOptions::Check() const {
-  UWS_CHECK(width >= 64 && height >= 64, "bench laser: frames must be at least 64x64");
-  UWS_CHECK(frames >= 1 && repetitions >= 1,
-            "bench laser: --frames and --repetitions must be >= 1");
+  UWS_USAGE_CHECK(width >= 64 && height >= 64, "bench laser: frames must be at least 64x64");
+  UWS_USAGE_CHECK(frames >= 1 && repetitions >= 1,
+                  "bench laser: --frames and --repetitions must be >= 1");
 }
 
 std::vector<cv::Mat> MakeLaserBenchmarkFrames(const LaserBenchmarkOptions& options) {

@@ -21,17 +21,19 @@ namespace uwscan {
 namespace fs = std::filesystem;
 
 void LaserDetectJob::Check() const {
+  UWS_USAGE_CHECK(detector.line_sigma_px > 0.2 && detector.line_sigma_px < 50.0,
+                  "--sigma must be between 0.2 and 50 px, got ", detector.line_sigma_px);
+  UWS_USAGE_CHECK(scan == "rows" || scan == "cols" || scan == "auto",
+                  "--scan must be rows, cols or auto");
+  UWS_USAGE_CHECK(channel == "red" || channel == "green" || channel == "blue" || channel == "auto",
+                  "--channel must be red, green, blue or auto");
+  UWS_USAGE_CHECK(albedo == "red" || albedo == "green" || albedo == "blue" || albedo == "none" ||
+                      albedo == "auto",
+                  "--albedo must be red, green, blue, none or auto");
+  UWS_USAGE_CHECK(dataset_dir.empty() != images_dir.empty(), "give either --dataset or --images");
+  UWS_USAGE_CHECK(!profiles_csv || rig_path || !dataset_dir.empty(),
+                  "--profiles needs a rig (--rig or --dataset)");
   detector.Check();
-  UWS_CHECK(scan == "rows" || scan == "cols" || scan == "auto",
-            "--scan must be rows, cols or auto");
-  UWS_CHECK(channel == "red" || channel == "green" || channel == "blue" || channel == "auto",
-            "--channel must be red, green, blue or auto");
-  UWS_CHECK(albedo == "red" || albedo == "green" || albedo == "blue" || albedo == "none" ||
-                albedo == "auto",
-            "--albedo must be red, green, blue, none or auto");
-  UWS_CHECK(dataset_dir.empty() != images_dir.empty(), "give either --dataset or --images");
-  UWS_CHECK(!profiles_csv || rig_path || !dataset_dir.empty(),
-            "--profiles needs a rig (--rig or --dataset)");
 }
 
 bool LaserLineIsVertical(const Camera& camera, const Rigid3d& camera_from_laser) {

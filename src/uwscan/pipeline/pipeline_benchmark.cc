@@ -26,8 +26,8 @@ double CpuSeconds(const rusage& usage) {
 }  // namespace
 
 void PipelineBenchmarkOptions::Check() const {
-  UWS_CHECK(frames >= 10, "bench pipeline: --frames must be >= 10");
-  UWS_CHECK(width >= 64 && height >= 48, "bench pipeline: resolution too small");
+  UWS_USAGE_CHECK(frames >= 10, "bench pipeline: --frames must be >= 10");
+  UWS_USAGE_CHECK(width >= 64 && height >= 48, "bench pipeline: resolution too small");
 }
 
 nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {

@@ -60,8 +60,8 @@ ProjectionRate Measure(const std::string& camera_name, const std::string& method
 }  // namespace
 
 void ProjectionBenchmarkOptions::Check() const {
-  UWS_CHECK(points >= 1000, "bench projection: --points must be >= 1000");
-  UWS_CHECK(repetitions >= 1, "bench projection: --repetitions must be >= 1");
+  UWS_USAGE_CHECK(points >= 1000, "bench projection: --points must be >= 1000");
+  UWS_USAGE_CHECK(repetitions >= 1, "bench projection: --repetitions must be >= 1");
 }
 
 std::vector<ProjectionRate> RunProjectionBenchmark(const ProjectionBenchmarkOptions& options) {

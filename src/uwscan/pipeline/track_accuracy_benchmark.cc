@@ -49,12 +49,13 @@ double Percentile(std::vector<double> values, double fraction) {
 }  // namespace
 
 void TrackAccuracyOptions::Check() const {
-  UWS_CHECK(!dataset.empty(), "bench tracks: --dataset is required");
-  UWS_CHECK(frames >= 0, "bench tracks: --frames must be >= 0, got ", frames);
-  UWS_CHECK(anchor_every >= 1, "bench tracks: --anchor-every must be >= 1, got ", anchor_every);
-  UWS_CHECK(contrast_scale >= 0.0 && contrast_scale <= 0.5,
-            "bench tracks: --contrast-scale must be in [0, 0.5], got ", contrast_scale);
-  UWS_CHECK(lost_px > 0.0, "bench tracks: lost_px must be > 0");
+  UWS_USAGE_CHECK(!dataset.empty(), "bench tracks: --dataset is required");
+  UWS_USAGE_CHECK(frames >= 0, "bench tracks: --frames must be >= 0, got ", frames);
+  UWS_USAGE_CHECK(anchor_every >= 1, "bench tracks: --anchor-every must be >= 1, got ",
+                  anchor_every);
+  UWS_USAGE_CHECK(contrast_scale >= 0.0 && contrast_scale <= 0.5,
+                  "bench tracks: --contrast-scale must be in [0, 0.5], got ", contrast_scale);
+  UWS_USAGE_CHECK(lost_px > 0.0, "bench tracks: lost_px must be > 0");
 }
 
 nlohmann::json TrackAccuracyResult::ToJson() const {

@@ -40,3 +40,11 @@ std::string Concat(const Args&... args) {
   } while (false)
 
 #define UWS_THROW(...) throw ::uwscan::Error(::uwscan::internal::Concat(__VA_ARGS__))
+
+// The same for what the command line set: uwscan::UsageError (exit status 2).
+#define UWS_USAGE_CHECK(condition, ...)                                    \
+  do {                                                                     \
+    if (!(condition)) {                                                    \
+      throw ::uwscan::UsageError(::uwscan::internal::Concat(__VA_ARGS__)); \
+    }                                                                      \
+  } while (false)
