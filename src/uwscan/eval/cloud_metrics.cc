@@ -8,6 +8,7 @@
 
 #include "uwscan/geometry/fits.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/json.h"
 #include "uwscan/util/statistics.h"
 
 namespace uwscan {
@@ -66,25 +67,18 @@ void RobustFit(const std::vector<Eigen::Vector3d>& points, const FitResiduals& r
 
 }  // namespace
 
-namespace {
-template <typename T>
-nlohmann::json MeasuredOrNull(bool measured, T value) {
-  return measured ? nlohmann::json(value) : nlohmann::json();
-}
-}  // namespace
-
 nlohmann::json SurfaceAccuracy::ToJson() const {
   const bool distances = distance_pairs > 0;
   return {{"name", name},
           {"type", type},
           {"points", points},
-          {"fit_rms_mm", MeasuredOrNull(fitted, fit_rms_m * 1e3)},
-          {"fit_max_abs_mm", MeasuredOrNull(fitted, fit_max_abs_m * 1e3)},
-          {"robust_fit_rms_mm", MeasuredOrNull(robust_fitted, robust_fit_rms_m * 1e3)},
-          {"robust_outliers", MeasuredOrNull(robust_fitted, robust_outliers)},
-          {"point_error_rms_mm", MeasuredOrNull(Measured(), point_error_rms_m * 1e3)},
-          {"distance_error_mean_pct", MeasuredOrNull(distances, distance_error_mean_pct)},
-          {"distance_error_median_pct", MeasuredOrNull(distances, distance_error_median_pct)},
+          {"fit_rms_mm", ValueOrNull(fitted, fit_rms_m * 1e3)},
+          {"fit_max_abs_mm", ValueOrNull(fitted, fit_max_abs_m * 1e3)},
+          {"robust_fit_rms_mm", ValueOrNull(robust_fitted, robust_fit_rms_m * 1e3)},
+          {"robust_outliers", ValueOrNull(robust_fitted, robust_outliers)},
+          {"point_error_rms_mm", ValueOrNull(Measured(), point_error_rms_m * 1e3)},
+          {"distance_error_mean_pct", ValueOrNull(distances, distance_error_mean_pct)},
+          {"distance_error_median_pct", ValueOrNull(distances, distance_error_median_pct)},
           {"distance_pairs", distance_pairs}};
 }
 
@@ -92,8 +86,8 @@ nlohmann::json CloudAccuracy::ToJson() const {
   nlohmann::json json = {
       {"points", points},
       {"matched", matched},
-      {"point_error_rms_mm", MeasuredOrNull(matched > 0, point_error_rms_m * 1e3)},
-      {"point_error_median_mm", MeasuredOrNull(matched > 0, point_error_median_m * 1e3)}};
+      {"point_error_rms_mm", ValueOrNull(matched > 0, point_error_rms_m * 1e3)},
+      {"point_error_median_mm", ValueOrNull(matched > 0, point_error_median_m * 1e3)}};
   json["surfaces"] = nlohmann::json::array();
   for (const auto& s : surfaces) json["surfaces"].push_back(s.ToJson());
   return json;

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "uwscan/util/error.h"
+#include "uwscan/util/json.h"
 
 namespace uwscan {
 namespace {
@@ -231,12 +232,6 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   return metrics;
 }
 
-namespace {
-nlohmann::json NumberOrNull(bool measured, double value) {
-  return measured ? nlohmann::json(value) : nlohmann::json();
-}
-}  // namespace
-
 nlohmann::json TrajectoryMetrics::ToJson() const {
   const bool drift = drift_segments > 0;
   nlohmann::json json = {
@@ -263,13 +258,13 @@ nlohmann::json TrajectoryMetrics::ToJson() const {
         {"rotation_mean_deg", rpe_rot_mean_deg}}},
       {"drift",
        {{"segments", drift_segments},
-        {"translation_percent", NumberOrNull(drift, drift_trans_percent)},
-        {"rotation_deg_per_m", NumberOrNull(drift, drift_rot_deg_per_m)},
+        {"translation_percent", ValueOrNull(drift, drift_trans_percent)},
+        {"rotation_deg_per_m", ValueOrNull(drift, drift_rot_deg_per_m)},
         {"lengths_m", drift_lengths_m}}},
       {"motion",
        {{"lag_frames", motion_lag},
-        {"translation_ratio", NumberOrNull(motion_translation_measured, motion_translation_ratio)},
-        {"rotation_ratio", NumberOrNull(motion_rotation_measured, motion_rotation_ratio)}}}};
+        {"translation_ratio", ValueOrNull(motion_translation_measured, motion_translation_ratio)},
+        {"rotation_ratio", ValueOrNull(motion_rotation_measured, motion_rotation_ratio)}}}};
   if (viewed_depth_m > 0) {
     json["motion"]["viewed_depth_m"] = viewed_depth_m;
     json["motion"]["viewed_point_ratio"] = viewed_motion_ratio;

@@ -20,6 +20,7 @@
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/interrupt.h"
+#include "uwscan/util/json.h"
 #include "uwscan/util/progress.h"
 #include "uwscan/util/stopwatch.h"
 
@@ -407,10 +408,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   report.seconds_earlier_passes = prior ? prior->seconds : retried ? retried->seconds : 0.0;
   if (retried) {
     report.tracking_retried_from_width = retried->pose_details.value("tracked_image_width", 0);
-    // Null where no refinement measured a change (never run again then).
-    const nlohmann::json change =
-        retried->pose_details.value("start_last_change_mm", nlohmann::json());
-    report.retried_start_change_mm = change.is_number() ? change.get<double>() : 0.0;
+    report.retried_start_change_mm =
+        NumberAt(retried->pose_details, "start_last_change_mm").value_or(0.0);
   }
   report.seconds = SecondsSince(start) + report.seconds_earlier_passes;
   if (measured) measured->seconds = report.seconds;

@@ -13,6 +13,7 @@
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/vo_run.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/json.h"
 
 namespace uwscan {
 
@@ -154,11 +155,6 @@ struct UnsettledStart {
   double within_mm = 0.0, within_deg = 0.0;
   bool Far() const { return moved_mm && *moved_mm > kFarFromSettled * within_mm; }
 };
-std::optional<double> NumberAt(const nlohmann::json& object, const char* key) {
-  const auto found = object.find(key);
-  if (found == object.end() || !found->is_number()) return std::nullopt;
-  return found->get<double>();
-}
 std::optional<UnsettledStart> FindUnsettledStart(const nlohmann::json& pose_details) {
   if (!pose_details.is_object()) return std::nullopt;
   const auto settled = pose_details.find("start_settled");
