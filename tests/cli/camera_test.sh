@@ -83,4 +83,12 @@ sed 's/n_water: 1.337/n_water: 0.5/' "$dir/rig.yaml" >"$dir/bad_rig.yaml"
 "$bin" analyze port --rig "$dir/bad_rig.yaml" 2>"$dir/err"
 [ $? -eq 1 ] || fail "invalid rig should exit 1"
 grep -q "bad_rig.yaml.*n_water" "$dir/err" || fail "rig error names file and key: $(cat "$dir/err")"
+# A camera the rig does not have: exit 1, naming the rig's file and the camera.
+for cmd in "camera project --in $dir/points.csv --out $dir/x.csv" "analyze port"; do
+  "$bin" $cmd --rig "$dir/rig.yaml" --camera nope >/dev/null 2>"$dir/err"
+  [ $? -eq 1 ] || fail "$cmd --camera nope should exit 1"
+  grep -q "$dir/rig.yaml: the rig has no camera named 'nope'" "$dir/err" \
+    || fail "$cmd --camera nope: $(cat "$dir/err")"
+done
+[ ! -e "$dir/x.csv" ] || fail "no output for a camera the rig does not have"
 echo "camera CLI: all checks passed"

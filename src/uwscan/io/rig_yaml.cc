@@ -128,7 +128,9 @@ Rig ReadRigYaml(const std::filesystem::path& path) {
   UWS_CHECK(in.good(), path.string(), ": cannot open rig file");
   std::stringstream text;
   text << in.rdbuf();
-  return ParseRigYaml(text.str(), path.string());
+  Rig rig = ParseRigYaml(text.str(), path.string());
+  rig.source = path.string();
+  return rig;
 }
 
 std::string RigToYaml(const Rig& rig) {

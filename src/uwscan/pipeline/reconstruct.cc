@@ -172,16 +172,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
             ": the rig has no laser, and reconstruct measures the scene with the laser line (a "
             "dataset for calibrating the camera alone, such as the aquarium scenario's, cannot "
             "be reconstructed)");
-  const Camera* named_camera = nullptr;
-  const LineProjector* named_laser = nullptr;
-  try {  // --camera / --laser naming none of the rig's: say which rig
-    named_camera = &rig.CameraByName(job.camera_name);
-    named_laser = &rig.LaserByName(job.laser_name);
-  } catch (const Error& e) {
-    UWS_THROW(rig_path.string(), ": ", e.what());
-  }
-  const Camera& camera = *named_camera;
-  const LineProjector& laser = *named_laser;
+  const Camera& camera = rig.CameraByName(job.camera_name);  // errors name the rig's file
+  const LineProjector& laser = rig.LaserByName(job.laser_name);
   const size_t camera_index = &camera - rig.cameras.data();
   const size_t laser_index = &laser - rig.lasers.data();
   UWS_CHECK(camera_index == 0 || !fs::exists(job.dataset / camera.name / "frames.csv"), "--camera ",

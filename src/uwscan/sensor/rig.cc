@@ -54,22 +54,27 @@ void LineProjector::Check(const std::string& context) const {
       context, ": camera_from_laser must be finite");
 }
 
+namespace {
+// "FILE: " for a rig read from a file.
+std::string Named(const std::string& source) { return source.empty() ? "" : source + ": "; }
+}  // namespace
+
 const Camera& Rig::CameraByName(const std::string& name) const {
-  UWS_CHECK(!cameras.empty(), "the rig has no camera");
+  UWS_CHECK(!cameras.empty(), Named(source), "the rig has no camera");
   if (name.empty()) return cameras.front();
   for (const auto& camera : cameras) {
     if (camera.name == name) return camera;
   }
-  UWS_THROW("the rig has no camera named '", name, "'");
+  UWS_THROW(Named(source), "the rig has no camera named '", name, "'");
 }
 
 const LineProjector& Rig::LaserByName(const std::string& name) const {
-  UWS_CHECK(!lasers.empty(), "the rig has no laser");
+  UWS_CHECK(!lasers.empty(), Named(source), "the rig has no laser");
   if (name.empty()) return lasers.front();
   for (const auto& laser : lasers) {
     if (laser.name == name) return laser;
   }
-  UWS_THROW("the rig has no laser named '", name, "'");
+  UWS_THROW(Named(source), "the rig has no laser named '", name, "'");
 }
 
 Rigid3d Rig::CameraFromLaser(size_t camera_index, size_t laser_index) const {
@@ -85,6 +90,7 @@ Rigid3d Rig::CameraFromCamera(size_t to_index, size_t from_index) const {
 Rig Rig::Reordered(size_t first_camera, size_t first_laser) const {
   UWS_CHECK(first_camera < cameras.size() && first_laser < lasers.size(), "rig index out of range");
   Rig rig;
+  rig.source = source;
   const auto first_then_others = [](size_t first, size_t count) {
     std::vector<size_t> order = {first};
     for (size_t i = 0; i < count; ++i) {

@@ -32,6 +32,7 @@ struct LineProjector {
 struct Rig {
   std::vector<Camera> cameras;
   std::vector<LineProjector> lasers;
+  std::string source;  // the file it was read from, named in its errors ("" if none)
 
   // Throws uwscan::Error if no camera has this name; empty name = first camera.
   const Camera& CameraByName(const std::string& name) const;
