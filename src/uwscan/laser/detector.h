@@ -46,6 +46,7 @@ struct DetectorOptions {
   bool scan_rows = true;
   int laser_channel = kGreen;  // ignored for mono input
   double line_sigma_px = 1.5;  // expected Gaussian sigma of the line across it
+  static constexpr double kMinLineSigmaPx = 0.2, kMaxLineSigmaPx = 50.0;  // exclusive bounds
   // Thesis method.
   double min_snr = 3.0;        // band-pass response / mean |response| around it
   double min_strength = 0.02;  // band-pass response in log-intensity units (0..1)

@@ -67,8 +67,8 @@ int SignatureChannelFor(int laser_channel) {
 }
 
 void DetectorOptions::Check() const {
-  UWS_CHECK(line_sigma_px > 0.2 && line_sigma_px < 50.0,
-            "laser detection: line sigma must be 0.2-50 px");
+  UWS_CHECK(line_sigma_px > kMinLineSigmaPx && line_sigma_px < kMaxLineSigmaPx,
+            "laser detection: line sigma must be ", kMinLineSigmaPx, "-", kMaxLineSigmaPx, " px");
   UWS_CHECK(min_snr >= 0.0 && min_strength >= 0.0 && min_contrast >= 0.0,
             "laser detection: thresholds must be >= 0");
   UWS_CHECK(noise_half_window_px >= 2, "laser detection: noise window must be >= 2 px");

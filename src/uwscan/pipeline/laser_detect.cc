@@ -21,8 +21,11 @@ namespace uwscan {
 namespace fs = std::filesystem;
 
 void LaserDetectJob::Check() const {
-  UWS_USAGE_CHECK(detector.line_sigma_px > 0.2 && detector.line_sigma_px < 50.0,
-                  "--sigma must be between 0.2 and 50 px, got ", detector.line_sigma_px);
+  using Options = laser::DetectorOptions;
+  UWS_USAGE_CHECK(detector.line_sigma_px > Options::kMinLineSigmaPx &&
+                      detector.line_sigma_px < Options::kMaxLineSigmaPx,
+                  "--sigma must be between ", Options::kMinLineSigmaPx, " and ",
+                  Options::kMaxLineSigmaPx, " px, got ", detector.line_sigma_px);
   UWS_USAGE_CHECK(scan == "rows" || scan == "cols" || scan == "auto",
                   "--scan must be rows, cols or auto");
   UWS_USAGE_CHECK(channel == "red" || channel == "green" || channel == "blue" || channel == "auto",

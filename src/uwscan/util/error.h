@@ -31,20 +31,19 @@ std::string Concat(const Args&... args) {
 
 }  // namespace uwscan
 
-// Throws uwscan::Error with the streamed message when the condition is false.
-#define UWS_CHECK(condition, ...)                                     \
-  do {                                                                \
-    if (!(condition)) {                                               \
-      throw ::uwscan::Error(::uwscan::internal::Concat(__VA_ARGS__)); \
-    }                                                                 \
+// Throws `type` with the streamed message when the condition is false.
+#define UWS_CHECK_OR_THROW(type, condition, ...)           \
+  do {                                                     \
+    if (!(condition)) {                                    \
+      throw type(::uwscan::internal::Concat(__VA_ARGS__)); \
+    }                                                      \
   } while (false)
+
+// Throws uwscan::Error with the streamed message when the condition is false.
+#define UWS_CHECK(condition, ...) UWS_CHECK_OR_THROW(::uwscan::Error, condition, __VA_ARGS__)
 
 #define UWS_THROW(...) throw ::uwscan::Error(::uwscan::internal::Concat(__VA_ARGS__))
 
 // The same for what the command line set: uwscan::UsageError (exit status 2).
-#define UWS_USAGE_CHECK(condition, ...)                                    \
-  do {                                                                     \
-    if (!(condition)) {                                                    \
-      throw ::uwscan::UsageError(::uwscan::internal::Concat(__VA_ARGS__)); \
-    }                                                                      \
-  } while (false)
+#define UWS_USAGE_CHECK(condition, ...) \
+  UWS_CHECK_OR_THROW(::uwscan::UsageError, condition, __VA_ARGS__)
