@@ -18,7 +18,8 @@ struct AnalyzePortArgs {
 };
 
 void RunAnalyzePort(const AnalyzePortArgs& args) {
-  if (!(args.depth > 0.05)) throw UsageError("--depth must be > 0.05 m");
+  UWS_USAGE_CHECK(std::isfinite(args.depth) && args.depth > 0.05,
+                  "--depth must be a distance > 0.05 m, got ", args.depth);
   const Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
   UWS_CHECK(camera.IsFlatPort(), args.rig, ": camera '", camera.name,

@@ -1,5 +1,7 @@
 // uwscan calibrate camera | laser: checkerboard calibration of a flat-port
 // camera (in air, refined in water) and of a line laser (thesis §4.4).
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -151,9 +153,11 @@ void RunCalibrateLaser(const LaserArgs& args) {
     char tail = 0;
     if (std::sscanf(args.servo_axis.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2],
                     &v[3], &v[4], &v[5], &tail) != 6 ||
+        !std::all_of(std::begin(v), std::end(v), [](double x) { return std::isfinite(x); }) ||
         Eigen::Vector3d(v[3], v[4], v[5]).norm() < 1e-9) {
       throw UsageError(
-          "--servo-axis must be PX,PY,PZ,DX,DY,DZ (camera frame, m; nonzero direction)");
+          "--servo-axis must be PX,PY,PZ,DX,DY,DZ (camera frame, m; nonzero direction), got '" +
+          args.servo_axis + "'");
     }
     options.servo = ServoAxis{Eigen::Vector3d(v[0], v[1], v[2]),
                               Eigen::Vector3d(v[3], v[4], v[5]).normalized()};

@@ -24,14 +24,12 @@ void RunProject(const ProjectArgs& args) {
   if (args.iterations < 1 || args.iterations > 50) throw UsageError("--iterations must be 1..50");
   const Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
-  const CsvTable points = ReadNumericCsv(args.in);
-  const int x = points.Column("x", args.in), y = points.Column("y", args.in),
-            z = points.Column("z", args.in);
+  const CsvTable points = ReadNumericCsv(args.in, {"x", "y", "z"});
   CsvTable pixels;
   pixels.header = {"u", "v", "valid"};
   for (const auto& row : points.rows) {
     const auto pixel =
-        camera.Project(Eigen::Vector3d(row[x], row[y], row[z]), *method, args.iterations);
+        camera.Project(Eigen::Vector3d(row[0], row[1], row[2]), *method, args.iterations);
     pixels.rows.push_back(pixel ? std::vector<double>{pixel->x(), pixel->y(), 1.0}
                                 : std::vector<double>{0.0, 0.0, 0.0});
   }
@@ -41,12 +39,11 @@ void RunProject(const ProjectArgs& args) {
 void RunBackproject(const BackprojectArgs& args) {
   const Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
-  const CsvTable pixels = ReadNumericCsv(args.in);
-  const int u = pixels.Column("u", args.in), v = pixels.Column("v", args.in);
+  const CsvTable pixels = ReadNumericCsv(args.in, {"u", "v"});
   CsvTable rays;
   rays.header = {"ox", "oy", "oz", "dx", "dy", "dz", "valid"};
   for (const auto& row : pixels.rows) {
-    const auto ray = camera.BackProject(Eigen::Vector2d(row[u], row[v]));
+    const auto ray = camera.BackProject(Eigen::Vector2d(row[0], row[1]));
     if (ray) {
       rays.rows.push_back({ray->origin.x(), ray->origin.y(), ray->origin.z(), ray->direction.x(),
                            ray->direction.y(), ray->direction.z(), 1.0});

@@ -102,9 +102,11 @@ void RegisterDemoCommand(CLI::App& app) {
       app.add_subcommand("demo", "Simulate, reconstruct and evaluate a self-referenced scan");
   demo->add_option("--out", args->out, "output folder")->capture_default_str();
   demo->add_option("--frames", args->frames, "frames to simulate")->capture_default_str();
-  demo->add_option("--width", args->width)->capture_default_str();
-  demo->add_option("--height", args->height)->capture_default_str();
-  demo->add_option("--seed", args->seed)->capture_default_str();
+  demo->add_option("--width", args->width, "image width in pixels (intrinsics scale along)")
+      ->capture_default_str();
+  demo->add_option("--height", args->height, "image height in pixels")->capture_default_str();
+  demo->add_option("--seed", args->seed, "random seed of the simulation (motion, texture, noise)")
+      ->capture_default_str();
   demo->add_flag("--quiet", args->quiet, "no progress bars");
   demo->callback([args] { RunDemo(*args); });
 }

@@ -93,10 +93,20 @@ void RegisterEvaluateCommand(CLI::App& app) {
     const fs::path truth_path = fs::path(*dataset) / "groundtruth.tum";
     UWS_CHECK(fs::exists(truth_path), truth_path.string(), ": no ground truth");
     options->align_scale = !*se3;
-    if (viewed_depth_given->count() > 0 && !(*viewed_depth >= 0 && std::isfinite(*viewed_depth))) {
-      throw UsageError("--viewed-depth must be a distance >= 0 (m), got " +
-                       std::to_string(*viewed_depth));
+    for (double length : options->drift_lengths_m) {
+      UWS_USAGE_CHECK(length > 0, "--lengths must be path lengths > 0 (m), got ", length);
     }
+    UWS_USAGE_CHECK(options->rpe_step >= 1, "--rpe-step must be >= 1, got ", options->rpe_step);
+    UWS_USAGE_CHECK(options->max_time_difference_s >= 0,
+                    "--max-dt must be a time difference >= 0 (s), got ",
+                    options->max_time_difference_s);
+    UWS_USAGE_CHECK(!std::isnan(options->rpe_from_s) && !std::isnan(options->rpe_to_s),
+                    "--rpe-from and --rpe-to must be times (s)");
+    UWS_USAGE_CHECK(options->rpe_from_s <= options->rpe_to_s, "--rpe-from (", options->rpe_from_s,
+                    " s) is after --rpe-to (", options->rpe_to_s, " s)");
+    UWS_USAGE_CHECK(
+        viewed_depth_given->count() == 0 || (*viewed_depth >= 0 && std::isfinite(*viewed_depth)),
+        "--viewed-depth must be a distance >= 0 (m), got ", *viewed_depth);
     options->viewed_depth_m =
         viewed_depth_given->count() > 0 ? *viewed_depth : MedianViewedDepth(*dataset);
     const TumTrajectory estimate = ReadTumTrajectory(estimate_path);

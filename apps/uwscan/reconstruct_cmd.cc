@@ -112,8 +112,8 @@ void RegisterReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   CLI::Option* tracking_width =
       cmd->add_option("--max-tracking-width", job->self_referenced.max_tracking_width,
-                      "the odometry tracks the image halved until it is at most this wide (0 = "
-                      "full resolution); not given, a one-pass run whose start does not settle at "
+                      "the odometry tracks the image halved until it is at most this wide, but "
+                      "not below 160 px (0 = full resolution); not given, a one-pass run whose start does not settle at "
                       "all (turbid water) runs again tracking half the image")
           ->capture_default_str();
   cmd->add_option("--track-every", *track_every,

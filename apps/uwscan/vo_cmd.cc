@@ -52,8 +52,9 @@ void RegisterVoCommand(CLI::App& app) {
                  "taken up again under its id (0 = off)")
       ->capture_default_str();
   vo->add_option("--max-tracking-width", job->max_tracking_width,
-                 "frames wider than this are tracked at half resolution (raw Bayer: the LED "
-                 "colour's own samples, no demosaicking); 0 = full resolution")
+                 "frames wider than this are tracked halved until at most this wide, but not "
+                 "below 160 px (raw Bayer: the LED colour's own samples, no demosaicking); 0 = "
+                 "full resolution")
       ->capture_default_str();
   vo->add_option("--contrast-scale", job->contrast_sigma_fraction,
                  "equalise the tracked image's contrast over a Gaussian of this fraction of its "

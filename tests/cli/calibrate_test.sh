@@ -47,6 +47,13 @@ if [[ -f $DATA/left01.jpg ]]; then
     expect 1 "no 9x6 board found in any" -- "$UWSCAN" calibrate camera --images "$TMP/noboard" \
       --board 9x6:0.025 --out "$TMP/bad.yaml"
   fi
+  # Boards found but rejected by a threshold: said so (not "check --board"), with the first
+  # one's measure and the option.
+  expect 1 "board was found in 5 of 5 image(s) but none was kept (left01.jpg: low contrast: \
+[0-9.]* grey levels < 1000 (--min-contrast))" -- "$UWSCAN" calibrate camera \
+    --images "$TMP/five" --board 9x6:0.025 --min-contrast 1000 --out "$TMP/bad.yaml"
+  expect 1 "blurred: edge width [0-9.]* px > 0.5 px (--max-edge-width)" -- "$UWSCAN" calibrate \
+    camera --images "$TMP/five" --board 9x6:0.025 --max-edge-width 0.5 --out "$TMP/bad.yaml"
   # Too few views.
   expect 1 "need at least 3" -- "$UWSCAN" calibrate camera --images "$TMP/few" \
     --board 9x6:0.025 --out "$TMP/bad.yaml"
@@ -61,6 +68,11 @@ if [[ -f $DATA/left01.jpg ]]; then
   # Servo options: both or neither; a bad angle file names the line.
   expect 2 "go together" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" \
     --images "$TMP/left" --board 9x6:0.025 --servo-axis 0,0,0,0,1,0 --out "$TMP/bad.yaml"
+  for axis in 0,0,0,0,0,0 0,0,0,nan,1,0 0,0,0,0,1; do
+    expect 2 "servo-axis must be .*got '$axis'" -- "$UWSCAN" calibrate laser \
+      --rig "$TMP/out/rig.yaml" --images "$TMP/left" --board 9x6:0.025 --servo-axis "$axis" \
+      --servo-angles "$TMP/angles.csv" --out "$TMP/bad.yaml"
+  done
   printf 'file,angle_deg\nleft01.jpg,zero\n' >"$TMP/angles.csv"
   expect 1 "angles.csv:2" -- "$UWSCAN" calibrate laser --rig "$TMP/out/rig.yaml" \
     --images "$TMP/few" --board 9x6:0.025 --servo-axis 0,0,0,0,1,0 \

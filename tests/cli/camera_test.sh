@@ -75,6 +75,18 @@ printf 'x,y,z\n1,2\n' >"$dir/bad.csv"
 grep -q "bad.csv:2" "$dir/err" || fail "error names file and line: $(cat "$dir/err")"
 [ ! -e "$dir/out.csv" ] || fail "no output on error"
 ls "$dir" | grep -q tmp && fail "temporary left behind"
+# Other columns (text too) are skipped, a spreadsheet's byte order mark and CRLF are read; a file
+# separated by semicolons is said to be.
+printf '\xef\xbb\xbfname,u,v\r\ncentre,640,480\r\n' >"$dir/named.csv"
+"$bin" camera backproject --rig "$dir/rig.yaml" --in "$dir/named.csv" --out "$dir/named_rays.csv" \
+  2>"$dir/err" || fail "a named pixel: $(cat "$dir/err")"
+[ "$(sed -n 2p "$dir/named_rays.csv")" = "$(sed -n 3p "$dir/rays.csv")" ] || fail "named pixel's ray"
+printf 'u;v\n640;480\n' >"$dir/semicolons.csv"
+"$bin" camera backproject --rig "$dir/rig.yaml" --in "$dir/semicolons.csv" --out "$dir/x.csv" 2>"$dir/err"
+[ $? -eq 1 ] || fail "semicolons should exit 1"
+grep -q "semicolons.csv: missing column 'u' (header 'u;v'; columns are separated by commas)" \
+  "$dir/err" || fail "semicolons: $(cat "$dir/err")"
+[ ! -e "$dir/x.csv" ] || fail "no output for a file without the columns"
 "$bin" camera project --rig "$dir/rig.yaml" --method fisheye --in "$dir/points.csv" --out "$dir/x.csv" 2>/dev/null
 [ $? -eq 2 ] || fail "bad method should exit 2"
 "$bin" camera frobnicate 2>/dev/null
@@ -91,4 +103,11 @@ for cmd in "camera project --in $dir/points.csv --out $dir/x.csv" "analyze port"
     || fail "$cmd --camera nope: $(cat "$dir/err")"
 done
 [ ! -e "$dir/x.csv" ] || fail "no output for a camera the rig does not have"
+# A fitting depth that is no distance: a usage error (exit 2) that says what it got.
+for depth in 0 -1 nan inf; do
+  "$bin" analyze port --rig "$dir/rig.yaml" --depth "$depth" >/dev/null 2>"$dir/err"
+  [ $? -eq 2 ] || fail "analyze port --depth $depth should exit 2"
+  grep -q "usage error: --depth must be a distance > 0.05 m, got $depth" "$dir/err" \
+    || fail "--depth $depth: $(cat "$dir/err")"
+done
 echo "camera CLI: all checks passed"

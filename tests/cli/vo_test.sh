@@ -35,6 +35,26 @@ grep -q "^the point 2.000 m ahead on the optical axis (the scene): moved [0-9.]*
 "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --viewed-depth -1 2>"$dir/err" >/dev/null
 [ $? -eq 2 ] || fail "--viewed-depth -1: want exit 2"
 grep -q -- "--viewed-depth must be" "$dir/err" || fail "--viewed-depth error does not say why"
+# The other figures' options: usage errors (exit 2) naming the option and what it got.
+for option in "--lengths -1" "--lengths nan" "--rpe-step 0" "--max-dt -1" "--max-dt nan" \
+  "--rpe-from nan" "--rpe-from 5 --rpe-to 1"; do
+  "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" $option 2>"$dir/err" >/dev/null
+  [ $? -eq 2 ] || fail "evaluate $option: want exit 2"
+  grep -q -- "usage error: ${option%% *} " "$dir/err" || fail "evaluate $option: $(cat "$dir/err")"
+done
+# RPE over no pair (a step longer than the sequence) is said, not printed as 0, and null in JSON.
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --rpe-step 1000 \
+  --json "$dir/no_rpe.json" >"$dir/no_rpe" || fail "evaluate --rpe-step 1000"
+grep -q "^RPE per frame: no pair of poses" "$dir/no_rpe" || fail "RPE over no pair: $(cat "$dir/no_rpe")"
+python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['trajectory']['rpe']; \
+assert r['pairs'] == 0 and r['translation_rmse_m'] is None, r" "$dir/no_rpe.json" ||
+  fail "RPE over no pair in the JSON"
+# A trajectory on another clock: the error gives both time spans.
+awk -v CONVFMT=%.9f '/^#/ { next } { $1 += 1000; print }' "$dir/t.tum" >"$dir/later.tum"
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/later.tum" 2>"$dir/err" >/dev/null
+[ $? -eq 1 ] || fail "evaluate on another clock: want exit 1"
+grep -q "later.tum against .*: only 0 poses associate .*the estimate's times 10[0-9.]* to \
+10[0-9.]* s, the ground truth's [0-9.]* to [0-9.]* s)" "$dir/err" || fail "clocks: $(cat "$dir/err")"
 # --json with a trajectory alone: the trajectory's figures; an unwritable
 # place is an error that names it.
 "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --json "$dir/e.json" >/dev/null \
@@ -117,7 +137,17 @@ grep -q "usage error: --window must be at least 3" "$dir/err" || fail "error doe
 grep -q "usage error: --ba-history must be >= 0" "$dir/err" || fail "error does not name --ba-history"
 "$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --mask-laser --mask-margin -1 2>"$dir/err"
 [ $? -eq 2 ] || fail "--mask-margin -1: want 2"
-grep -q "usage error: --mask-margin must be >= 0" "$dir/err" || fail "error does not name --mask-margin"
+grep -q "usage error: --mask-margin must be a number of pixels >= 0, got -1" "$dir/err" ||
+  fail "error does not name --mask-margin"
+# Numbers that are not finite are refused as usage errors that say what they got.
+for option in "--mask-laser --mask-margin nan" "--model pinhole --pinhole-fit-depth inf" \
+  "--initial-depth inf" "--ba-time-limit inf"; do
+  "$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" $option 2>"$dir/err"
+  [ $? -eq 2 ] || fail "$option: want 2"
+  name=${option% *}
+  grep -q -- "usage error: ${name##* } .*got ${option##* }$" "$dir/err" ||
+    fail "$option: $(cat "$dir/err")"
+done
 "$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --per-cell 0 2>"$dir/err"
 [ $? -eq 2 ] || fail "--per-cell 0: want 2"
 grep -q "usage error: --per-cell must be >= 1" "$dir/err" || fail "error does not name --per-cell"

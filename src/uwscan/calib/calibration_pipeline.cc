@@ -52,8 +52,9 @@ void CameraPipelineOptions::Check() const {
     throw UsageError("water images need the flat-port model");
   }
   if (air_without_port && (model != CameraModelId::kFlatPort || water.empty())) {
-    throw UsageError("--air-without-port needs --model flatport and --water images: the port is "
-                     "seen only through the water");
+    throw UsageError(
+        "--air-without-port needs --model flatport and --water images: the port is "
+        "seen only through the water");
   }
   UWS_CHECK(n_glass >= 1.0 && n_glass < 3.0, "glass index must be in [1, 3), got ", n_glass);
   UWS_CHECK(d_glass > 0.0 && d_glass < 0.2, "glass thickness must be in (0, 0.2) m, got ", d_glass);
@@ -234,7 +235,11 @@ std::map<std::string, double> ReadServoAngles(const std::filesystem::path& path)
       if (number == 1) continue;  // header
       UWS_THROW(path.string(), ":", number, ": expected 'file,angle_deg', got '", line, "'");
     }
-    angles[line.substr(0, comma)] = degrees * M_PI / 180.0;
+    UWS_CHECK(std::isfinite(degrees) && std::abs(degrees) <= 360.0, path.string(), ":", number,
+              ": the angle must be a number of degrees in [-360, 360], got '",
+              line.substr(comma + 1), "'");
+    UWS_CHECK(angles.emplace(line.substr(0, comma), degrees * M_PI / 180.0).second, path.string(),
+              ":", number, ": '", line.substr(0, comma), "' is given an angle twice");
   }
   UWS_CHECK(!angles.empty(), path.string(), ": no servo angles");
   return angles;

@@ -1,5 +1,7 @@
 #include "uwscan/calib/checkerboard.h"
 
+#include <algorithm>
+#include <iomanip>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -133,12 +135,14 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
     return result;
   }
   if (result.edge_width_px > options.max_edge_width_px) {
-    result.reason = "blurred: edge width " + std::to_string(result.edge_width_px) + " px > " +
-                    std::to_string(options.max_edge_width_px) + " px";
+    result.reason =
+        internal::Concat(std::setprecision(4), "blurred: edge width ", result.edge_width_px,
+                         " px > ", options.max_edge_width_px, " px (--max-edge-width)");
     return result;
   }
   if (result.contrast < options.min_contrast) {
-    result.reason = "low contrast: " + std::to_string(result.contrast) + " grey levels";
+    result.reason = internal::Concat(std::setprecision(4), "low contrast: ", result.contrast,
+                                     " grey levels < ", options.min_contrast, " (--min-contrast)");
     return result;
   }
   result.found = true;
@@ -192,6 +196,14 @@ FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const 
   UWS_CHECK(larger < 2, folder.string(), ": ", larger, " of ", probed,
             " probed image(s) show a board with more inner corners than ", board.cols, "x",
             board.rows, "; check --board (inner corners, COLSxROWS)");
+  // Boards found but none kept: say why, not that the board is not there.
+  const auto has_corners = [](const BoardDetection& d) { return d.corners > 0; };
+  const auto rejected = std::find_if(result.images.begin(), result.images.end(), has_corners);
+  UWS_CHECK(!result.set.views.empty() || rejected == result.images.end(), folder.string(), ": the ",
+            board.cols, "x", board.rows, " board was found in ",
+            std::count_if(result.images.begin(), result.images.end(), has_corners), " of ",
+            files.size(), " image(s) but none was kept (", rejected->name, ": ", rejected->reason,
+            "); check the images, or --max-edge-width and --min-contrast");
   UWS_CHECK(!result.set.views.empty(), folder.string(), ": no ", board.cols, "x", board.rows,
             " board found in any of ", files.size(),
             " image(s); check --board (inner corners, COLSxROWS) and the images (first: ",

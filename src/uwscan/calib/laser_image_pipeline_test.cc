@@ -14,6 +14,7 @@
 #include "uwscan/calib/checkerboard.h"
 #include "uwscan/calib/laser_calibration.h"
 #include "uwscan/calib/laser_points.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
@@ -70,10 +71,10 @@ TEST(LaserImagePipeline, RenderedBoardsWithLaserLineGiveTheSheet) {
     laser_options.min_peak = 25.0;
     std::string name = "range_";
     name += std::to_string(range);
-    views.push_back({name, board_pose->camera_from_board,
-                     DetectLaserOnTarget(
-                         bgr, TargetOutline(camera, board, board_pose->camera_from_board, 0.0),
-                         1, laser_options)});
+    views.push_back(
+        {name, board_pose->camera_from_board,
+         DetectLaserOnTarget(bgr, TargetOutline(camera, board, board_pose->camera_from_board, 0.0),
+                             1, laser_options)});
   }
   LaserCalibrationOptions options;
   options.refine_bend = false;
@@ -107,6 +108,30 @@ TEST(LaserImagePipeline, ReadsServoAngles) {
   ASSERT_EQ(angles.size(), 2u);
   EXPECT_DOUBLE_EQ(angles.at("000.png"), -6.0 * M_PI / 180.0);
   EXPECT_DOUBLE_EQ(angles.at("001.png"), 3.5 * M_PI / 180.0);
+}
+
+// An angle that is no number of degrees, or a second one for an image: the
+// error names the file, the line and what is wrong.
+TEST(LaserImagePipeline, ServoAngleErrorsNameTheLine) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("uwscan_bad_angles_" + std::to_string(getpid()));
+  const auto error_of = [&](const std::string& text) {
+    std::ofstream(path) << text;
+    try {
+      ReadServoAngles(path);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string source = path.string();
+  EXPECT_EQ(error_of("file,angle_deg\n000.png,nan\n"),
+            source + ":2: the angle must be a number of degrees in [-360, 360], got 'nan'");
+  EXPECT_EQ(error_of("file,angle_deg\n000.png,1e9\n"),
+            source + ":2: the angle must be a number of degrees in [-360, 360], got '1e9'");
+  EXPECT_EQ(error_of("file,angle_deg\n000.png,1\n001.png,2\n000.png,3\n"),
+            source + ":4: '000.png' is given an angle twice");
+  std::filesystem::remove(path);
 }
 
 }  // namespace

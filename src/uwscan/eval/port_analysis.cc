@@ -59,7 +59,8 @@ struct PinholeResidual {
 }  // namespace
 
 void PinholeFitOptions::Check() const {
-  UWS_CHECK(std::isfinite(depth_m) && depth_m > 0.05, "pinhole fit: depth must be > 0.05 m");
+  UWS_CHECK(std::isfinite(depth_m) && depth_m > 0.05,
+            "pinhole fit: depth must be a distance > 0.05 m, got ", depth_m);
   UWS_CHECK(grid_step_px >= 1, "pinhole fit: grid step must be >= 1 px");
 }
 

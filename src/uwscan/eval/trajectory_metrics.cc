@@ -55,6 +55,8 @@ Rigid3d RelativeError(const Rigid3d& gt_i, const Rigid3d& gt_j, const Rigid3d& e
 
 void TrajectoryMetricsOptions::Check() const {
   UWS_CHECK(max_time_difference_s >= 0, "max_time_difference_s must be >= 0");
+  UWS_CHECK(!std::isnan(rpe_from_s) && !std::isnan(rpe_to_s) && rpe_from_s <= rpe_to_s,
+            "the RPE's time range must be a range, got ", rpe_from_s, " to ", rpe_to_s);
   UWS_CHECK(rpe_step >= 1, "rpe_step must be >= 1");
   UWS_CHECK(drift_start_step >= 1, "drift_start_step must be >= 1");
   UWS_CHECK(motion_lag >= 0, "motion_lag must be >= 0");
@@ -93,8 +95,17 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   }
   TrajectoryMetrics metrics;
   metrics.associated = int(est.size());
+  const auto time_span = [](const auto& poses) {
+    if (poses.empty()) return std::string("none");
+    const auto [first, last] = std::minmax_element(
+        poses.begin(), poses.end(),
+        [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+    return internal::Concat(first->timestamp_s, " to ", last->timestamp_s, " s");
+  };
   UWS_CHECK(est.size() >= 3, "trajectory metrics: only ", est.size(),
-            " poses associate with the ground truth by timestamp (need >= 3)");
+            " poses associate with the ground truth by timestamp (need >= 3; within ",
+            options.max_time_difference_s, " s; the estimate's times ", time_span(estimate),
+            ", the ground truth's ", time_span(gt_sorted), ")");
 
   std::vector<Eigen::Vector3d> est_positions, gt_positions;
   for (size_t i = 0; i < est.size(); ++i) {
@@ -252,10 +263,10 @@ nlohmann::json TrajectoryMetrics::ToJson() const {
        {{"rmse", ate_rmse_m}, {"mean", ate_mean_m}, {"median", ate_median_m}, {"max", ate_max_m}}},
       {"rpe",
        {{"pairs", rpe_pairs},
-        {"translation_rmse_m", rpe_trans_rmse_m},
-        {"rotation_rmse_deg", rpe_rot_rmse_deg},
-        {"translation_mean_m", rpe_trans_mean_m},
-        {"rotation_mean_deg", rpe_rot_mean_deg}}},
+        {"translation_rmse_m", ValueOrNull(rpe_pairs > 0, rpe_trans_rmse_m)},
+        {"rotation_rmse_deg", ValueOrNull(rpe_pairs > 0, rpe_rot_rmse_deg)},
+        {"translation_mean_m", ValueOrNull(rpe_pairs > 0, rpe_trans_mean_m)},
+        {"rotation_mean_deg", ValueOrNull(rpe_pairs > 0, rpe_rot_mean_deg)}}},
       {"drift",
        {{"segments", drift_segments},
         {"translation_percent", ValueOrNull(drift, drift_trans_percent)},
@@ -290,10 +301,17 @@ std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
   }
   out += buffer;
   std::snprintf(buffer, sizeof(buffer),
-                "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n"
-                "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n",
-                m.ate_rmse_m, m.ate_mean_m, m.ate_median_m, m.ate_max_m, 1e3 * m.rpe_trans_rmse_m,
-                1e3 * m.rpe_rot_rmse_deg, m.rpe_pairs);
+                "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n",
+                m.ate_rmse_m, m.ate_mean_m, m.ate_median_m, m.ate_max_m);
+  out += buffer;
+  if (m.rpe_pairs > 0) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n",
+                  1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg, m.rpe_pairs);
+  } else {
+    std::snprintf(buffer, sizeof(buffer),
+                  "RPE per frame: no pair of poses the step apart within the time range\n");
+  }
   out += buffer;
   if (m.drift_segments > 0) {
     std::snprintf(buffer, sizeof(buffer),

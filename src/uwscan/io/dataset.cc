@@ -135,17 +135,12 @@ void LaserTruthWriter::Add(const LaserTruthRow& r) {
 }
 
 std::vector<LaserTruthRow> ReadLaserTruthCsv(const std::filesystem::path& path) {
-  const CsvTable table = ReadNumericCsv(path);
-  const std::string source = path.string();
-  const int frame = table.Column("frame", source), laser = table.Column("laser", source),
-            u = table.Column("u", source), v = table.Column("v", source),
-            x = table.Column("x", source), y = table.Column("y", source),
-            z = table.Column("z", source);
+  const CsvTable table = ReadNumericCsv(path, {"frame", "laser", "u", "v", "x", "y", "z"});
   std::vector<LaserTruthRow> rows;
   rows.reserve(table.rows.size());
   for (const auto& row : table.rows) {
-    rows.push_back({static_cast<int>(row[frame]), static_cast<int>(row[laser]), row[u], row[v],
-                    row[x], row[y], row[z]});
+    rows.push_back({static_cast<int>(row[0]), static_cast<int>(row[1]), row[2], row[3], row[4],
+                    row[5], row[6]});
   }
   return rows;
 }

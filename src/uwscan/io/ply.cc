@@ -1,8 +1,12 @@
 #include "uwscan/io/ply.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "uwscan/util/error.h"
 
@@ -67,32 +71,72 @@ void PlyStreamWriter::Close() {
   file_.Commit();
 }
 
+namespace {
+
+// A scalar vertex property: where it sits in a binary record and how to read it.
+struct PlyProperty {
+  std::string name, type;
+  size_t offset = 0, size = 0;
+  bool is_float = false, is_signed = false;
+};
+
+// PLY's scalar types (both spellings) -> size, floating point, signed.
+bool DescribePlyType(const std::string& type, PlyProperty* p) {
+  static const std::map<std::string, std::tuple<size_t, bool, bool>> kTypes = {
+      {"char", {1, false, true}},    {"int8", {1, false, true}},    {"uchar", {1, false, false}},
+      {"uint8", {1, false, false}},  {"short", {2, false, true}},   {"int16", {2, false, true}},
+      {"ushort", {2, false, false}}, {"uint16", {2, false, false}}, {"int", {4, false, true}},
+      {"int32", {4, false, true}},   {"uint", {4, false, false}},   {"uint32", {4, false, false}},
+      {"float", {4, true, true}},    {"float32", {4, true, true}},  {"double", {8, true, true}},
+      {"float64", {8, true, true}}};
+  const auto found = kTypes.find(type);
+  if (found == kTypes.end()) return false;
+  std::tie(p->size, p->is_float, p->is_signed) = found->second;
+  return true;
+}
+
+// A little-endian binary value of `p` at `at`.
+double BinaryValue(const PlyProperty& p, const char* at) {
+  if (p.is_float) {
+    if (p.size == 8) {
+      double v;
+      std::memcpy(&v, at, 8);
+      return v;
+    }
+    float v;
+    std::memcpy(&v, at, 4);
+    return v;
+  }
+  uint32_t bits = 0;
+  std::memcpy(&bits, at, p.size);
+  if (!p.is_signed) return bits;
+  const int shift = 32 - 8 * static_cast<int>(p.size);  // sign-extend from p.size bytes
+  return static_cast<int32_t>(bits << shift) >> shift;
+}
+
+}  // namespace
+
 std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   UWS_CHECK(in.good(), path.string(), ": cannot open");
   std::string line;
   std::getline(in, line);
-  UWS_CHECK(line == "ply", path.string(), ": not a PLY file");
+  UWS_CHECK(line == "ply" || line == "ply\r", path.string(), ": not a PLY file");
   int64_t count = -1;
-  struct Property {
-    std::string name, type;
-    size_t offset;
-  };
-  std::vector<Property> properties;
+  bool ascii = false;
+  std::vector<PlyProperty> properties;
   size_t stride = 0;
-  const std::map<std::string, size_t> sizes = {{"double", 8},  {"float", 4}, {"uchar", 1},
-                                               {"int", 4},     {"uint", 4},  {"float32", 4},
-                                               {"float64", 8}, {"uint8", 1}, {"int32", 4}};
   bool in_vertex = false;
-  while (std::getline(in, line) && line != "end_header") {
+  while (std::getline(in, line) && line != "end_header" && line != "end_header\r") {
     std::istringstream words(line);
     std::string word;
     words >> word;
     if (word == "format") {
       std::string format;
       words >> format;
-      UWS_CHECK(format == "binary_little_endian", path.string(),
-                ": only binary_little_endian PLY is supported");
+      UWS_CHECK(format == "binary_little_endian" || format == "ascii", path.string(),
+                ": only ascii and binary_little_endian PLY are supported, not ", format);
+      ascii = format == "ascii";
     } else if (word == "element") {
       std::string name;
       words >> name;
@@ -102,64 +146,68 @@ std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
       else
         UWS_CHECK(count >= 0, path.string(), ": elements before 'vertex' are not supported");
     } else if (word == "property" && in_vertex) {
-      Property p;
+      PlyProperty p;
       words >> p.type >> p.name;
-      const auto size = sizes.find(p.type);
-      UWS_CHECK(size != sizes.end(), path.string(), ": unsupported property type '", p.type, "'");
+      UWS_CHECK(DescribePlyType(p.type, &p), path.string(), ": unsupported vertex property type '",
+                p.type, "'");
       p.offset = stride;
-      stride += size->second;
+      stride += p.size;
       properties.push_back(p);
     }
   }
-  UWS_CHECK(count >= 0 && line == "end_header", path.string(), ": truncated header");
+  UWS_CHECK(count >= 0 && (line == "end_header" || line == "end_header\r"), path.string(),
+            ": truncated header");
+  for (const char* axis : {"x", "y", "z"}) {
+    UWS_CHECK(std::any_of(properties.begin(), properties.end(),
+                          [&](const PlyProperty& p) { return p.name == axis; }),
+              path.string(), ": the vertices have no '", axis, "' property");
+  }
   std::vector<char> record(stride);
+  std::vector<double> values(properties.size());
   std::vector<CloudPoint> points;
   points.reserve(count);
-  const auto value = [&](const Property& p) -> double {
-    const char* at = record.data() + p.offset;
-    if (p.type == "double" || p.type == "float64") {
-      double v;
-      std::memcpy(&v, at, 8);
-      return v;
-    }
-    if (p.type == "float" || p.type == "float32") {
-      float v;
-      std::memcpy(&v, at, 4);
-      return v;
-    }
-    if (p.type == "uchar" || p.type == "uint8") return static_cast<unsigned char>(*at);
-    if (p.type == "uint") {
-      uint32_t v;
-      std::memcpy(&v, at, 4);
-      return v;
-    }
-    int32_t v;
-    std::memcpy(&v, at, 4);
-    return v;
-  };
   for (int64_t i = 0; i < count; ++i) {
-    in.read(record.data(), stride);
-    UWS_CHECK(in.gcount() == static_cast<std::streamsize>(stride), path.string(),
-              ": truncated data (", i, " of ", count, " vertices)");
-    CloudPoint point;
-    for (const auto& p : properties) {
-      if (p.name == "x")
-        point.position.x() = value(p);
-      else if (p.name == "y")
-        point.position.y() = value(p);
-      else if (p.name == "z")
-        point.position.z() = value(p);
-      else if (p.name == "red")
-        point.red = static_cast<uint8_t>(value(p));
-      else if (p.name == "green")
-        point.green = static_cast<uint8_t>(value(p));
-      else if (p.name == "blue")
-        point.blue = static_cast<uint8_t>(value(p));
-      else if (p.name == "intensity")
-        point.intensity = static_cast<float>(value(p));
-      else if (p.name == "frame")
-        point.frame = static_cast<int32_t>(value(p));
+    if (ascii) {
+      UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(), ": truncated data (", i,
+                " of ", count, " vertices)");
+      std::istringstream words(line);
+      std::string word;
+      for (double& v : values) {
+        UWS_CHECK(static_cast<bool>(words >> word), path.string(), ": vertex ", i,
+                  " has fewer than ", values.size(), " numbers: '", line, "'");
+        const auto parsed = std::from_chars(word.data(), word.data() + word.size(), v);
+        UWS_CHECK(parsed.ec == std::errc() && parsed.ptr == word.data() + word.size(),
+                  path.string(), ": vertex ", i, ": '", word, "' is not a number");
+      }
+    } else {
+      in.read(record.data(), stride);
+      UWS_CHECK(in.gcount() == static_cast<std::streamsize>(stride), path.string(),
+                ": truncated data (", i, " of ", count, " vertices)");
+      for (size_t k = 0; k < properties.size(); ++k)
+        values[k] = BinaryValue(properties[k], record.data() + properties[k].offset);
     }
+    CloudPoint point;
+    for (size_t k = 0; k < properties.size(); ++k) {
+      const std::string& name = properties[k].name;
+      const double v = values[k];
+      if (name == "x")
+        point.position.x() = v;
+      else if (name == "y")
+        point.position.y() = v;
+      else if (name == "z")
+        point.position.z() = v;
+      else if (name == "red")
+        point.red = static_cast<uint8_t>(v);
+      else if (name == "green")
+        point.green = static_cast<uint8_t>(v);
+      else if (name == "blue")
+        point.blue = static_cast<uint8_t>(v);
+      else if (name == "intensity")
+        point.intensity = static_cast<float>(v);
+      else if (name == "frame")
+        point.frame = static_cast<int32_t>(v);
+    }
+    UWS_CHECK(point.position.allFinite(), path.string(), ": vertex ", i, " is not finite");
     points.push_back(point);
   }
   return points;

@@ -13,7 +13,7 @@
 namespace uwscan {
 
 struct CloudPoint {
-  Eigen::Vector3d position;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
   uint8_t red = 255, green = 255, blue = 255;
   float intensity = 0.0f;
   int32_t frame = 0;
@@ -38,8 +38,11 @@ class PlyStreamWriter {
   int64_t count_ = 0;
 };
 
-// Reads a PLY written by PlyStreamWriter (or any binary little-endian PLY
-// with at least float/double x y z); missing optional fields keep defaults.
+// Reads the vertices of a PLY written by PlyStreamWriter or by another tool
+// (ascii or binary little-endian, scalar properties, x y z required; red,
+// green, blue, intensity and frame read where present, others skipped).
+// Throws uwscan::Error naming the file for anything else, a truncated file
+// or a non-finite vertex.
 std::vector<CloudPoint> ReadPly(const std::filesystem::path& path);
 
 }  // namespace uwscan

@@ -108,6 +108,9 @@ TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
       {Edit("p1: 0.0", "p1: 0.0\n    power: 1"), "unknown key 'lasers[0].power'"},
       {Edit("q: [1, 0, 0, 0], t: [0.8", "q: [2, 0, 0, 0], t: [0.8"), "unit quaternion"},
       {"cameras: [", "not valid YAML"},
+      {Edit("name: cam0", "name: \"\""), "cameras[0]: name must be a plain file name"},
+      {Edit("name: laser0", "name: ../x"), "lasers[0]: name must be a plain file name"},
+      {Edit("cx: 640.0", "cx: 640000.0"), "the principal point (cx 640000, cy 480) is far outside"},
   };
   for (const auto& c : cases) {
     const std::string message = ErrorOf(c.text);

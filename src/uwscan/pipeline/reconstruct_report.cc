@@ -47,8 +47,8 @@ void ReconstructJob::Check() const {
                      std::to_string(self_referenced.init_refinements) + ")");
   }
   if (!(max_range_error_per_px >= 0.0) || !std::isfinite(max_range_error_per_px)) {
-    throw UsageError("--max-range-error-per-px must be >= 0 (0 = keep all), got " +
-                     std::to_string(max_range_error_per_px));
+    throw UsageError(fmt::format("--max-range-error-per-px must be >= 0 (0 = keep all), got {}",
+                                 max_range_error_per_px));
   }
   if (passes < 0 || passes > kMaxPasses) {
     throw UsageError(fmt::format("--passes must be auto or 1 to {}, got {}", kMaxPasses, passes));

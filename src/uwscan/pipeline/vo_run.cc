@@ -48,8 +48,10 @@ void VoJob::Check() const {
   if (model != "flatport" && model != "pinhole") {
     throw UsageError("--model must be flatport or pinhole, not '" + model + "'");
   }
-  if (!(pinhole_fit_depth_m > 0)) throw UsageError("--pinhole-fit-depth must be > 0");
-  if (mask_margin_px < 0) throw UsageError("--mask-margin must be >= 0");
+  UWS_USAGE_CHECK(std::isfinite(pinhole_fit_depth_m) && pinhole_fit_depth_m > 0.05,
+                  "--pinhole-fit-depth must be a distance > 0.05 m, got ", pinhole_fit_depth_m);
+  UWS_USAGE_CHECK(std::isfinite(mask_margin_px) && mask_margin_px >= 0,
+                  "--mask-margin must be a number of pixels >= 0, got ", mask_margin_px);
   if (max_tracking_width < 0) throw UsageError("--max-tracking-width must be >= 0");
   if (max_frames < 0) {
     throw UsageError("--max-frames must be >= 0 (0 = all), got " + std::to_string(max_frames));
@@ -74,7 +76,8 @@ void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
                      " keyframes are held fixed), got " + std::to_string(ba.window_size));
   }
   if (!(ba.max_solver_time_s > 0) || !std::isfinite(ba.max_solver_time_s))
-    throw UsageError("--ba-time-limit must be > 0 seconds");
+    throw UsageError(fmt::format("--ba-time-limit must be a finite number of seconds > 0, got {}",
+                                 ba.max_solver_time_s));
   if (ba.max_iterations < 1) throw UsageError("--ba-iterations must be >= 1");
   if (ba.history_keyframes < 0) {
     throw UsageError("--ba-history must be >= 0, got " + std::to_string(ba.history_keyframes));
@@ -90,7 +93,9 @@ void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
     throw UsageError("--max-dormant-frames must be >= 0, got " +
                      std::to_string(tracker.max_dormant_frames));
   }
-  if (!(odometry.initial_median_depth_m > 0)) throw UsageError("--initial-depth must be > 0 m");
+  UWS_USAGE_CHECK(std::isfinite(odometry.initial_median_depth_m) &&
+                      odometry.initial_median_depth_m > 0,
+                  "--initial-depth must be a distance > 0 m, got ", odometry.initial_median_depth_m);
 }
 
 VoRunSummary RunVisualOdometry(const VoJob& job) {

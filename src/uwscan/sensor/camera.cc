@@ -112,6 +112,12 @@ void Camera::Check(const std::string& context) const {
   for (double value : distortion)
     UWS_CHECK(std::isfinite(value), context, ": distortion must be finite");
   UWS_CHECK(intrinsics[0] > 0 && intrinsics[1] > 0, context, ": fx and fy must be positive");
+  // The principal point near the image (within one image size of it): far
+  // outside, the rig is not this camera's (or cx/cy are in another unit).
+  UWS_CHECK(std::abs(intrinsics[2] - 0.5 * width) <= 1.5 * width &&
+                std::abs(intrinsics[3] - 0.5 * height) <= 1.5 * height,
+            context, ": the principal point (cx ", intrinsics[2], ", cy ", intrinsics[3],
+            ") is far outside the ", width, "x", height, " image");
   UWS_CHECK(
       bayer == "none" || bayer == "rggb" || bayer == "bggr" || bayer == "grbg" || bayer == "gbrg",
       context, ": bayer must be one of none, rggb, bggr, grbg, gbrg (got '", bayer, "')");

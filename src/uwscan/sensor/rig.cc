@@ -110,14 +110,23 @@ Rig Rig::Reordered(size_t first_camera, size_t first_laser) const {
 
 void Rig::Check(const std::string& context) const {
   UWS_CHECK(!cameras.empty(), context, ": cameras: at least one camera is required");
+  // A further camera's images are in DATASET/NAME/: a name is a plain file name.
+  const auto check_name = [&](const std::string& name, const std::string& where) {
+    UWS_CHECK(!name.empty() && name != "." && name != ".." &&
+                  name.find_first_of("/\\") == std::string::npos,
+              context, ": ", where, ": name must be a plain file name (not empty, no '/'), got '",
+              name, "'");
+  };
   std::set<std::string> names;
   for (size_t i = 0; i < cameras.size(); ++i) {
     cameras[i].Check(context + ": cameras[" + std::to_string(i) + "]");
+    check_name(cameras[i].name, "cameras[" + std::to_string(i) + "]");
     UWS_CHECK(names.insert(cameras[i].name).second, context, ": duplicate camera name '",
               cameras[i].name, "'");
   }
   for (size_t i = 0; i < lasers.size(); ++i) {
     lasers[i].Check(context + ": lasers[" + std::to_string(i) + "]");
+    check_name(lasers[i].name, "lasers[" + std::to_string(i) + "]");
     UWS_CHECK(names.insert(lasers[i].name).second, context, ": duplicate name '", lasers[i].name,
               "'");
   }

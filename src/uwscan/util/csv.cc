@@ -1,5 +1,6 @@
 #include "uwscan/util/csv.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -26,36 +27,40 @@ std::vector<std::string> SplitLine(const std::string& line) {
 
 }  // namespace
 
-int CsvTable::Column(const std::string& name, const std::string& source) const {
-  for (size_t i = 0; i < header.size(); ++i) {
-    if (header[i] == name) return static_cast<int>(i);
-  }
-  UWS_THROW(source, ": missing column '", name, "'");
-}
-
-CsvTable ReadNumericCsv(const std::filesystem::path& path) {
+CsvTable ReadNumericCsv(const std::filesystem::path& path,
+                        const std::vector<std::string>& columns) {
   std::ifstream in(path);
   UWS_CHECK(in.good(), path.string(), ": cannot open for reading");
-  CsvTable table;
   std::string line;
   UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(),
             ": empty file (expected a header line)");
-  table.header = SplitLine(line);
+  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
+  const std::vector<std::string> header = SplitLine(line);
+  std::vector<int> indices;
+  for (const std::string& name : columns) {
+    const auto found = std::find(header.begin(), header.end(), name);
+    UWS_CHECK(found != header.end(), path.string(), ": missing column '", name, "' (header '",
+              line.substr(0, line.find_last_not_of("\r") + 1),
+              "'; columns are separated by commas)");
+    indices.push_back(static_cast<int>(found - header.begin()));
+  }
+  CsvTable table;
+  table.header = columns;
   int line_number = 1;
   while (std::getline(in, line)) {
     ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const auto fields = SplitLine(line);
-    UWS_CHECK(fields.size() == table.header.size(), path.string(), ":", line_number, ": expected ",
-              table.header.size(), " fields, found ", fields.size());
-    std::vector<double> row(fields.size());
-    for (size_t i = 0; i < fields.size(); ++i) {
-      const std::string& f = fields[i];
+    UWS_CHECK(fields.size() == header.size(), path.string(), ":", line_number, ": expected ",
+              header.size(), " fields, found ", fields.size());
+    std::vector<double> row(columns.size());
+    for (size_t i = 0; i < columns.size(); ++i) {
+      const std::string& f = fields[indices[i]];
       const auto result = std::from_chars(f.data(), f.data() + f.size(), row[i]);
       UWS_CHECK(
           result.ec == std::errc() && result.ptr == f.data() + f.size() && std::isfinite(row[i]),
-          path.string(), ":", line_number, ": column '", table.header[i],
-          "' is not a finite number: '", f, "'");
+          path.string(), ":", line_number, ": column '", columns[i], "' is not a finite number: '",
+          f, "'");
     }
     table.rows.push_back(std::move(row));
   }

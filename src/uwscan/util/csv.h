@@ -11,13 +11,12 @@ namespace uwscan {
 struct CsvTable {
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
-
-  // Index of a named column; throws uwscan::Error naming `source` if absent.
-  int Column(const std::string& name, const std::string& source) const;
 };
 
-// Reads a numeric CSV. Every error names the file and the line.
-CsvTable ReadNumericCsv(const std::filesystem::path& path);
+// Reads the named columns of a CSV with a header line, in that order (the
+// table's header is `columns`); other columns, numeric or not, are skipped.
+// Every error names the file, and the line or the missing column.
+CsvTable ReadNumericCsv(const std::filesystem::path& path, const std::vector<std::string>& columns);
 
 // Writes atomically with 17 significant digits (round trips doubles exactly).
 void WriteNumericCsv(const std::filesystem::path& path, const CsvTable& table);
