@@ -9,6 +9,22 @@
 #include "uwscan/util/error.h"
 #include "uwscan/util/interrupt.h"
 
+namespace {
+
+// An empty value ("--out ''", an unset shell variable) is refused as a usage
+// error naming the option, for every option of every command that takes one,
+// before any command runs (it would otherwise reach a file name as "").
+void RefuseEmptyValues(CLI::App* app) {
+  const CLI::Validator not_empty(
+      [](std::string& value) { return value.empty() ? std::string("empty value") : ""; }, "");
+  for (CLI::Option* option : app->get_options()) {
+    if (option->get_type_size() > 0) option->check(not_empty);
+  }
+  for (CLI::App* command : app->get_subcommands({})) RefuseEmptyValues(command);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   // Ceres logs a solver's routine recoveries (a Levenberg-Marquardt step the
   // linear solver refused, retried with more damping) as glog warnings:
@@ -29,6 +45,7 @@ int main(int argc, char** argv) {
   uwscan::cli::RegisterEvaluateCommand(app);
   uwscan::cli::RegisterCalibrateCommands(app);
   uwscan::cli::RegisterVoCommand(app);
+  RefuseEmptyValues(&app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

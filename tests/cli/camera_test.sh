@@ -103,6 +103,14 @@ for cmd in "camera project --in $dir/points.csv --out $dir/x.csv" "analyze port"
     || fail "$cmd --camera nope: $(cat "$dir/err")"
 done
 [ ! -e "$dir/x.csv" ] || fail "no output for a camera the rig does not have"
+# An empty value (an unset shell variable) is a usage error naming the option, in every command.
+for cmd in "camera project --rig $dir/rig.yaml --in $dir/points.csv --out" \
+  "analyze port --rig $dir/rig.yaml --camera" "evaluate --dataset $dir --trajectory x.tum --json" \
+  "laser detect --out x.csv --images"; do
+  "$bin" $cmd "" >/dev/null 2>"$dir/err"
+  [ $? -eq 2 ] || fail "$cmd '': want exit 2"
+  grep -q -- "^${cmd##* }: empty value$" "$dir/err" || fail "$cmd '': $(cat "$dir/err")"
+done
 # A fitting depth that is no distance: a usage error (exit 2) that says what it got.
 for depth in 0 -1 nan inf; do
   "$bin" analyze port --rig "$dir/rig.yaml" --depth "$depth" >/dev/null 2>"$dir/err"

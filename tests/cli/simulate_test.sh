@@ -219,5 +219,9 @@ expect_status 1 "output under a file" "$uwscan" simulate tank-target --out "$wor
   --frames 1 --width 32 --height 24 --quiet
 expect_status 1 "output under /proc" "$uwscan" simulate tank-target --out /proc/uwscan-sim \
   --frames 1 --width 32 --height 24 --quiet
+grep -q "^uwscan: error: /proc/uwscan-sim: cannot create the output folder: " "$work/err" ||
+  fail "output under /proc: the error names the temporary, not --out: $(cat "$work/err")"
+expect_status 2 "empty --out" "$uwscan" simulate tank-target --out "" --frames 1 --quiet
+expect_status 2 "reconstruct, empty --out" "$uwscan" reconstruct --dataset "$work/ds" --out ""
 [ -z "$(ls "$work" | grep tmp-)" ] || fail "temporary folder left behind"
 echo "simulate CLI: all checks passed"

@@ -21,7 +21,7 @@ void ReconstructJob::Check() const {
   detector.Check();
   if (max_frames < 0)
     throw UsageError("--max-frames must be >= 0 (0 = all), got " + std::to_string(max_frames));
-  UWS_CHECK(!out.empty(), "--out: empty output folder name");
+  UWS_USAGE_CHECK(!out.empty(), "--out: empty output folder name");
   if (track_every < 0)
     throw UsageError("--track-every must be auto or >= 1, got " + std::to_string(track_every));
   if (line_window_px < 0)

@@ -129,7 +129,7 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
 SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, bool show_progress) {
   InterruptibleScope interruptible;
   const auto start = std::chrono::steady_clock::now();
-  UWS_CHECK(!out_dir.empty(), "--out: empty output folder name");
+  UWS_USAGE_CHECK(!out_dir.empty(), "--out: empty output folder name");
   std::error_code error;
   if (fs::exists(out_dir, error)) {
     UWS_CHECK(fs::is_directory(out_dir, error), out_dir.string(), ": exists and is not a folder");
@@ -139,7 +139,8 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
   const fs::path final_dir = fs::absolute(out_dir).lexically_normal();
   fs::path temp_dir = final_dir.parent_path() /
                       (final_dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  CreateFolder(temp_dir / "frames");
+  fs::create_directories(temp_dir / "frames", error);
+  UWS_CHECK(!error, out_dir.string(), ": cannot create the output folder: ", error.message());
   TemporaryFolder guard(temp_dir);
 
   WriteRigYaml(temp_dir / "rig.yaml", scenario.config.rig);
