@@ -109,6 +109,16 @@ void RegisterEvaluateCommand(CLI::App& app) {
         "--viewed-depth must be a distance >= 0 (m), got ", *viewed_depth);
     options->viewed_depth_m =
         viewed_depth_given->count() > 0 ? *viewed_depth : MedianViewedDepth(*dataset);
+    // A reconstruction's clouds are compared with a simulated dataset's
+    // scene; both must be there before anything is printed.
+    UWS_CHECK(result->empty() || fs::is_directory(*result), *result,
+              ": no such folder (--result is the output folder of reconstruct)");
+    const bool with_clouds = !result->empty() && fs::exists(fs::path(*dataset) / "scene.yaml");
+    for (const char* cloud : {"cloud.ply", "cloud_uncompensated.ply"}) {
+      UWS_CHECK(!with_clouds || fs::exists(fs::path(*result) / cloud),
+                (fs::path(*result) / cloud).string(),
+                ": missing (reconstruct writes it beside trajectory.tum)");
+    }
     const TumTrajectory estimate = ReadTumTrajectory(estimate_path);
     const TumTrajectory truth = ReadTumTrajectory(truth_path);
     TrajectoryMetrics metrics;
@@ -123,11 +133,13 @@ void RegisterEvaluateCommand(CLI::App& app) {
     json["trajectory"]["estimate"] = estimate_path.string();
     json["trajectory"]["ground_truth"] = truth_path.string();
     json["trajectory"]["gaps_marked"] = estimate.gaps.size();
-    if (!result->empty() && fs::exists(fs::path(*dataset) / "scene.yaml") &&
-        fs::exists(fs::path(*result) / "cloud.ply")) {
+    if (with_clouds) {
       const auto evaluation = EvaluateReconstruction(*dataset, *result);
       PrintCloudEvaluation(evaluation);
       json.update(evaluation.ToJson());  // "compensated", "uncompensated"
+    } else if (!result->empty()) {
+      std::printf("clouds: not evaluated (%s has no scene.yaml, the simulator's true scene)\n",
+                  dataset->c_str());
     }
     if (!json_path->empty()) WriteFileAtomic(*json_path, json.dump(2) + "\n");
   });

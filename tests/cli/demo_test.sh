@@ -73,5 +73,19 @@ touch "$dir/file"
 grep -q "$dir/file: cannot create the output folder" "$dir/err" || fail "--out a file: unclear error"
 "$bin" evaluate --dataset "$dir/demo/dataset" --result "$dir/none" >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] || fail "evaluate --result on no folder: want exit 1"
-grep -q "$dir/none" "$dir/err" || fail "evaluate --result on no folder: does not name it"
+grep -q "$dir/none: no such folder" "$dir/err" || fail "evaluate --result on no folder: $(cat "$dir/err")"
+# A result without one of its clouds: named before anything is printed; a dataset that is not
+# simulated (no scene.yaml): the trajectory alone, and a line that says so.
+cp -r "$dir/demo/result" "$dir/partial"
+rm "$dir/partial/cloud_uncompensated.ply"
+"$bin" evaluate --dataset "$dir/demo/dataset" --result "$dir/partial" >"$dir/out" 2>"$dir/err"
+[ $? -eq 1 ] || fail "evaluate --result without a cloud: want exit 1"
+grep -q "$dir/partial/cloud_uncompensated.ply: missing" "$dir/err" || fail "partial: $(cat "$dir/err")"
+[ ! -s "$dir/out" ] || fail "partial: figures printed before the error"
+cp -r "$dir/demo/dataset" "$dir/real"
+rm "$dir/real/scene.yaml"
+"$bin" evaluate --dataset "$dir/real" --result "$dir/demo/result" >"$dir/out" 2>"$dir/err" ||
+  fail "evaluate --result on a dataset without a scene: $(cat "$dir/err")"
+grep -q "^ATE" "$dir/out" && grep -q "^clouds: not evaluated ($dir/real has no scene.yaml" "$dir/out" ||
+  fail "no scene: $(cat "$dir/out")"
 exit 0
