@@ -1,5 +1,5 @@
 // uwscan simulate SCENARIO --out DIR [options]: render a simulated dataset.
-#include <iostream>
+#include <cstdio>
 
 #include "commands.h"
 #include "uwscan/sim/simulate.h"
@@ -58,9 +58,10 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   const sim::Scenario scenario = sim::MakeScenario(args.scenario, options);
   const sim::SimulateResult result = sim::WriteDataset(scenario, args.out, !args.quiet);
   if (!args.quiet) {
-    std::cerr << "uwscan: wrote " << result.frames << " frames (" << result.laser_points
-              << " laser ground-truth points) to " << args.out << " in " << result.seconds
-              << " s\n";
+    std::fprintf(stderr,
+                 "uwscan: wrote %ld frames (%ld laser ground-truth points) to %s in %.1f s\n",
+                 static_cast<long>(result.frames), static_cast<long>(result.laser_points),
+                 args.out.c_str(), result.seconds);
   }
 }
 

@@ -131,8 +131,7 @@ TEST(Ply, ErrorsNameTheFileAndTheProblem) {
       {"ply\nformat binary_big_endian 1.0\nelement vertex 1\n" + xyz + "end_header\n", "",
        "only ascii and binary_little_endian PLY are supported, not binary_big_endian"},
       {start + "property list uchar float x\nend_header\n", "",
-       "unsupported vertex property "
-       "type 'list'"},
+       "unsupported vertex property type 'list'"},
   };
   for (const auto& c : cases) {
     const auto path = WritePly("uwscan_ply_error", c.header, c.body);
