@@ -116,7 +116,7 @@ double BinaryValue(const PlyProperty& p, const char* at) {
 
 }  // namespace
 
-std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
+std::vector<CloudPoint> ReadPly(const std::filesystem::path& path, bool need_frame) {
   std::ifstream in(path, std::ios::binary);
   UWS_CHECK(in.good(), path.string(), ": cannot open");
   std::string line;
@@ -148,6 +148,8 @@ std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
     } else if (word == "property" && in_vertex) {
       PlyProperty p;
       words >> p.type >> p.name;
+      // CloudCompare saves a scalar field NAME as scalar_NAME.
+      if (p.name == "scalar_frame" || p.name == "scalar_intensity") p.name.erase(0, 7);
       UWS_CHECK(DescribePlyType(p.type, &p), path.string(), ": unsupported vertex property type '",
                 p.type, "'");
       p.offset = stride;
@@ -157,10 +159,13 @@ std::vector<CloudPoint> ReadPly(const std::filesystem::path& path) {
   }
   UWS_CHECK(count >= 0 && (line == "end_header" || line == "end_header\r"), path.string(),
             ": truncated header");
-  for (const char* axis : {"x", "y", "z"}) {
+  std::vector<const char*> needed = {"x", "y", "z"};
+  if (need_frame) needed.push_back("frame");
+  for (const char* name : needed) {
     UWS_CHECK(std::any_of(properties.begin(), properties.end(),
-                          [&](const PlyProperty& p) { return p.name == axis; }),
-              path.string(), ": the vertices have no '", axis, "' property");
+                          [&](const PlyProperty& p) { return p.name == name; }),
+              path.string(), ": the vertices have no '", name, "' property",
+              std::string(name) == "frame" ? " (the frame each point was measured in)" : "");
   }
   std::vector<char> record(stride);
   std::vector<double> values(properties.size());

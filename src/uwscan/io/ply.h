@@ -39,10 +39,11 @@ class PlyStreamWriter {
 };
 
 // Reads the vertices of a PLY written by PlyStreamWriter or by another tool
-// (ascii or binary little-endian, scalar properties, x y z required; red,
-// green, blue, intensity and frame read where present, others skipped).
-// Throws uwscan::Error naming the file for anything else, a truncated file
-// or a non-finite vertex.
-std::vector<CloudPoint> ReadPly(const std::filesystem::path& path);
+// (ascii or binary little-endian, scalar properties, x y z required, and
+// frame too with `need_frame`; red, green, blue, intensity and frame read
+// where present (CloudCompare's scalar_intensity and scalar_frame too),
+// others skipped). Throws uwscan::Error naming the file for anything else,
+// a truncated file or a non-finite vertex.
+std::vector<CloudPoint> ReadPly(const std::filesystem::path& path, bool need_frame = false);
 
 }  // namespace uwscan

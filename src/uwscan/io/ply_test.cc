@@ -71,9 +71,9 @@ std::filesystem::path WritePly(const std::string& name, const std::string& heade
   return path;
 }
 
-std::string ErrorOf(const std::filesystem::path& path) {
+std::string ErrorOf(const std::filesystem::path& path, bool need_frame = false) {
   try {
-    ReadPly(path);
+    ReadPly(path, need_frame);
   } catch (const Error& e) {
     return e.what();
   }
@@ -88,15 +88,16 @@ TEST(Ply, ReadsCloudsSavedByOtherTools) {
       "ply\r\nformat ascii 1.0\r\ncomment saved elsewhere\r\nelement vertex 2\r\n"
       "property double x\r\nproperty double y\r\nproperty double z\r\nproperty float nx\r\n"
       "property float ny\r\nproperty float nz\r\nproperty uchar red\r\nproperty uchar green\r\n"
-      "property uchar blue\r\nelement face 0\r\nproperty list uchar int vertex_indices\r\n"
-      "end_header\r\n",
-      "0.5 -0.25 2.125 0 0 1 10 20 30\r\n1e-3 2 3 0 1 0 255 0 7\r\n");
-  const auto points = ReadPly(ascii);
+      "property uchar blue\r\nproperty float scalar_frame\r\nelement face 0\r\n"
+      "property list uchar int vertex_indices\r\nend_header\r\n",
+      "0.5 -0.25 2.125 0 0 1 10 20 30 4\r\n1e-3 2 3 0 1 0 255 0 7 5\r\n");
+  const auto points = ReadPly(ascii, /*need_frame=*/true);
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[0].position, Eigen::Vector3d(0.5, -0.25, 2.125));
   EXPECT_EQ(points[1].position, Eigen::Vector3d(1e-3, 2, 3));
   EXPECT_EQ(points[0].green, 20);
   EXPECT_EQ(points[1].blue, 7);
+  EXPECT_EQ(points[1].frame, 5);  // CloudCompare's name for the scalar field
   std::filesystem::remove(ascii);
 
   std::string body;
@@ -112,6 +113,10 @@ TEST(Ply, ReadsCloudsSavedByOtherTools) {
   const auto binary_points = ReadPly(binary);
   ASSERT_EQ(binary_points.size(), 1u);
   EXPECT_EQ(binary_points[0].position, Eigen::Vector3d(1.5, -2.5, 4.0));
+  // Without the frame, a cloud cannot be evaluated against the poses.
+  EXPECT_EQ(ErrorOf(binary, /*need_frame=*/true),
+            binary.string() +
+                ": the vertices have no 'frame' property (the frame each point was measured in)");
   std::filesystem::remove(binary);
 }
 

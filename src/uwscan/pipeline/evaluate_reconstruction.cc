@@ -88,11 +88,12 @@ ReconstructionEvaluation EvaluateReconstruction(const fs::path& dataset, const f
     }
   }
   ReconstructionEvaluation evaluation;
-  evaluation.compensated = EvaluateCloud(ReadPly(result / "cloud.ply"), estimated, truth, camera,
-                                         scenario.config.scene, frame_cameras);
-  evaluation.uncompensated =
-      EvaluateCloud(ReadPly(result / "cloud_uncompensated.ply"), first_everywhere, truth, camera,
+  evaluation.compensated =
+      EvaluateCloud(ReadPly(result / "cloud.ply", /*need_frame=*/true), estimated, truth, camera,
                     scenario.config.scene, frame_cameras);
+  evaluation.uncompensated =
+      EvaluateCloud(ReadPly(result / "cloud_uncompensated.ply", /*need_frame=*/true),
+                    first_everywhere, truth, camera, scenario.config.scene, frame_cameras);
   return evaluation;
 }
 
