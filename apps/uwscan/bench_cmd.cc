@@ -35,8 +35,10 @@ void RegisterBenchCommands(CLI::App& app) {
   auto laser_options = std::make_shared<LaserBenchmarkOptions>();
   auto* laser = bench->add_subcommand(
       "laser", "Frames/s of the thesis laser detector and the argmax and cog baselines");
-  laser->add_option("--width", laser_options->width)->capture_default_str();
-  laser->add_option("--height", laser_options->height)->capture_default_str();
+  laser->add_option("--width", laser_options->width, "synthetic frames' width (px)")
+      ->capture_default_str();
+  laser->add_option("--height", laser_options->height, "synthetic frames' height (px)")
+      ->capture_default_str();
   laser->add_option("--frames", laser_options->frames, "distinct frames")->capture_default_str();
   laser->add_option("--repetitions", laser_options->repetitions, "best of N passes")
       ->capture_default_str();
@@ -67,10 +69,16 @@ void RegisterBenchCommands(CLI::App& app) {
   auto* laser_accuracy = bench->add_subcommand(
       "laser-accuracy",
       "Laser detection RMS, completeness and outliers on simulated tank-target frames (Markdown)");
-  laser_accuracy->add_option("--width", accuracy->width)->capture_default_str();
-  laser_accuracy->add_option("--height", accuracy->height)->capture_default_str();
-  laser_accuracy->add_option("--frames", accuracy->frames)->capture_default_str();
-  laser_accuracy->add_option("--seed", accuracy->seed)->capture_default_str();
+  laser_accuracy->add_option("--width", accuracy->width, "simulated frames' width (px)")
+      ->capture_default_str();
+  laser_accuracy->add_option("--height", accuracy->height, "simulated frames' height (px)")
+      ->capture_default_str();
+  laser_accuracy
+      ->add_option("--frames", accuracy->frames,
+                   "frames per water (servo positions over the sweep)")
+      ->capture_default_str();
+  laser_accuracy->add_option("--seed", accuracy->seed, "the simulation's random seed")
+      ->capture_default_str();
   laser_accuracy->add_option("--turbidity", accuracy->turbidities, "presets or c_p(530) values");
   laser_accuracy->callback(
       [accuracy] { std::cout << LaserAccuracyToMarkdown(RunLaserAccuracyBenchmark(*accuracy)); });
@@ -82,9 +90,17 @@ void RegisterBenchCommands(CLI::App& app) {
       "Time the self-referenced reconstruction (real-time factor, peak memory, CPU time and "
       "cores kept busy, the load average before) as JSON");
   pipeline->add_option("--dataset", *pipeline_dataset, "dataset (default: simulate tank-target)");
-  pipeline->add_option("--frames", pipeline_options->frames)->capture_default_str();
-  pipeline->add_option("--width", pipeline_options->width)->capture_default_str();
-  pipeline->add_option("--height", pipeline_options->height)->capture_default_str();
+  pipeline
+      ->add_option("--frames", pipeline_options->frames, "frames to simulate (without --dataset)")
+      ->capture_default_str();
+  pipeline
+      ->add_option("--width", pipeline_options->width,
+                   "simulated frames' width (px; without --dataset)")
+      ->capture_default_str();
+  pipeline
+      ->add_option("--height", pipeline_options->height,
+                   "simulated frames' height (px; without --dataset)")
+      ->capture_default_str();
   AddAsyncBundleAdjustmentFlags(pipeline, &pipeline_options->async_bundle_adjustment,
                                 "as reconstruct --async-ba");
   auto pipeline_track_every = std::make_shared<std::string>("auto");

@@ -121,6 +121,19 @@ grep -q "^59,.*,tracked," "$dir/bstatus.csv" || fail "not tracking at the end"
 ! grep -q "^20,.*,tracked," "$dir/bstatus.csv" || fail "pose for the black frame"
 
 # Errors.
+"$bin" vo synth --out "$dir/seq" --frames 3 2>"$dir/err"
+[ $? -eq 1 ] || fail "vo synth into a dataset: want exit 1"
+grep -q "seq: output folder exists and is not empty" "$dir/err" || fail "vo synth over: $(cat "$dir/err")"
+"$bin" vo synth --out "$dir/synth_inf" --frames 3 --rate inf 2>"$dir/err"
+[ $? -eq 2 ] || fail "vo synth --rate inf: want exit 2"
+grep -q "usage error: --rate must be in (0, 10000\] Hz, got inf" "$dir/err" || fail "--rate inf: $(cat "$dir/err")"
+# Stopped half-way: nothing under the name, no temporary left.
+"$bin" vo synth --out "$dir/stopped" --frames 2000 --width 640 2>/dev/null &
+sleep 1
+kill -TERM $!
+wait $!
+[ $? -eq 143 ] || fail "vo synth stopped: want exit 143"
+[ -z "$(ls "$dir" | grep stopped)" ] || fail "vo synth stopped: left $(ls "$dir" | grep stopped)"
 "$bin" vo --dataset "$dir/seq" 2>/dev/null; [ $? -eq 2 ] || fail "missing --out: want exit 2"
 "$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --model fisheye 2>/dev/null
 [ $? -eq 2 ] || fail "bad --model: want exit 2"

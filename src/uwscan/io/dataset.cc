@@ -79,7 +79,10 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
       UWS_CHECK(used == fields[0].size(), "");
       record.timestamp_s = std::stod(fields[1], &used);
       UWS_CHECK(used == fields[1].size(), "");
-      if (with_angle) record.laser_angle_rad = std::stod(fields[3]);
+      if (with_angle) {
+        record.laser_angle_rad = std::stod(fields[3], &used);
+        UWS_CHECK(used == fields[3].size(), "");
+      }
     } catch (const std::exception&) {
       UWS_THROW(path.string(), ":", number,
                 ": index, timestamp_s and laser_angle_rad must be numbers");

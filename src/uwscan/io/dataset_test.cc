@@ -82,6 +82,9 @@ TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
             std::string::npos);
   EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,inf\n").find("finite"),
             std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,0.5deg\n")
+                .find("frames.csv:2: index, timestamp_s and laser_angle_rad must be numbers"),
+            std::string::npos);
 }
 
 // A 144 Hz sequence with the timestamps' jitter of a real recorder

@@ -7,7 +7,9 @@
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum_trajectory.h"
 #include "uwscan/pipeline/vo_dataset.h"
+#include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 #include "uwscan/util/stopwatch.h"
 #include "uwscan/vo/testing/plane_renderer.h"
 
@@ -21,18 +23,25 @@ void SyntheticVoOptions::Check() const {
   if (width < 64 || width > 4096 || width % 4 != 0) {
     throw UsageError("--width must be a multiple of 4 in 64..4096");
   }
-  if (!(length_m > 0) || !(altitude_m > 0.3) || !(d_air_m >= 0) || !(frame_rate_hz > 0)) {
-    throw UsageError("length, altitude (> 0.3 m), d_air and frame rate must be positive");
-  }
+  UWS_USAGE_CHECK(length_m > 0 && length_m <= 10000, "--length must be in (0, 10000] m, got ",
+                  length_m);
+  UWS_USAGE_CHECK(altitude_m > 0.3 && altitude_m <= 100, "--altitude must be in (0.3, 100] m, got ",
+                  altitude_m);
+  UWS_USAGE_CHECK(d_air_m >= 0 && d_air_m <= 0.1, "--d-air must be in [0, 0.1] m, got ", d_air_m);
+  UWS_USAGE_CHECK(frame_rate_hz > 0 && frame_rate_hz <= 10000,
+                  "--rate must be in (0, 10000] Hz, got ", frame_rate_hz);
   if (medium != "clear" && medium != "medium") {
     throw UsageError("--medium must be clear or medium, not '" + medium + "'");
   }
 }
 
-SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
+SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& out_dir,
                                            const SyntheticVoOptions& options) {
   options.Check();
+  InterruptibleScope interruptible;
   const auto start = std::chrono::steady_clock::now();
+  StagedFolder staged(out_dir);  // nothing under its name until the whole dataset is written
+  const std::filesystem::path& dir = staged.path();
   std::filesystem::create_directories(dir / "frames");
   Camera base = Camera::Flat1();
   base.port.d_air = options.d_air_m;
@@ -108,6 +117,7 @@ SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
   FramesCsvWriter frames(dir / "frames.csv", /*with_laser_angle=*/false);
   TumTrajectory truth;
   for (int i = 0; i < options.frames; ++i) {
+    ThrowIfInterrupted();
     render.noise_seed = options.seed * 100003u + unsigned(i);
     const cv::Mat image = renderer.Render(poses[size_t(i)], render);
     char name[64];
@@ -119,6 +129,7 @@ SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
   }
   frames.Commit();
   WriteTumTrajectory(dir / "groundtruth.tum", truth);
+  staged.Commit();
   SyntheticVoSummary summary;
   summary.frames = options.frames;
   for (size_t i = 1; i < poses.size(); ++i) {

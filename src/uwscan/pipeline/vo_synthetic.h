@@ -30,6 +30,8 @@ struct SyntheticVoSummary {
   double seconds = 0.0;
 };
 
+// Writes the dataset into `dir`, which must not exist or be an empty folder;
+// nothing is left under its name if writing fails or is interrupted.
 SyntheticVoSummary WriteSyntheticVoDataset(const std::filesystem::path& dir,
                                            const SyntheticVoOptions& options);
 

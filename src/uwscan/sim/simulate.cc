@@ -1,7 +1,5 @@
 #include "uwscan/sim/simulate.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <future>
 
@@ -11,6 +9,7 @@
 #include "uwscan/io/tum.h"
 #include "uwscan/sim/ins.h"
 #include "uwscan/sim/scene_yaml.h"
+#include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/interrupt.h"
 #include "uwscan/util/progress.h"
@@ -20,23 +19,6 @@ namespace uwscan::sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Removes the temporary folder unless released.
-class TemporaryFolder {
- public:
-  explicit TemporaryFolder(fs::path path) : path_(std::move(path)) {}
-  ~TemporaryFolder() {
-    if (!released_) {
-      std::error_code ignored;
-      fs::remove_all(path_, ignored);
-    }
-  }
-  void Release() { released_ = true; }
-
- private:
-  fs::path path_;
-  bool released_ = false;
-};
 
 void CreateFolder(const fs::path& path) {
   std::error_code error;
@@ -129,19 +111,9 @@ void WriteSequence(const Scenario& scenario, size_t camera, const fs::path& fold
 SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, bool show_progress) {
   InterruptibleScope interruptible;
   const auto start = std::chrono::steady_clock::now();
-  UWS_USAGE_CHECK(!out_dir.empty(), "--out: empty output folder name");
-  std::error_code error;
-  if (fs::exists(out_dir, error)) {
-    UWS_CHECK(fs::is_directory(out_dir, error), out_dir.string(), ": exists and is not a folder");
-    UWS_CHECK(fs::is_empty(out_dir, error), out_dir.string(),
-              ": output folder exists and is not empty (refusing to overwrite)");
-  }
-  const fs::path final_dir = fs::absolute(out_dir).lexically_normal();
-  fs::path temp_dir = final_dir.parent_path() /
-                      (final_dir.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  fs::create_directories(temp_dir / "frames", error);
-  UWS_CHECK(!error, out_dir.string(), ": cannot create the output folder: ", error.message());
-  TemporaryFolder guard(temp_dir);
+  StagedFolder staged(out_dir);
+  const fs::path& temp_dir = staged.path();
+  CreateFolder(temp_dir / "frames");
 
   WriteRigYaml(temp_dir / "rig.yaml", scenario.config.rig);
   WriteSceneYaml(temp_dir / "scene.yaml", scenario);
@@ -172,10 +144,7 @@ SimulateResult WriteDataset(const Scenario& scenario, const fs::path& out_dir, b
   }
   progress.Finish();
 
-  if (fs::exists(final_dir, error)) fs::remove(final_dir, error);  // the empty folder
-  fs::rename(temp_dir, final_dir, error);
-  UWS_CHECK(!error, final_dir.string(), ": cannot move the dataset into place: ", error.message());
-  guard.Release();
+  staged.Commit();
   result.frames = static_cast<int>(scenario.frames * scenario.Cameras());
   result.seconds = SecondsSince(start);
   return result;

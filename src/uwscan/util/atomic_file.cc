@@ -56,6 +56,37 @@ void OutputFolder::RemoveMade() {
   }
 }
 
+StagedFolder::StagedFolder(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  UWS_CHECK_OR_THROW(UsageError, !path.empty(), "--out: empty output folder name");
+  std::error_code error;
+  if (fs::exists(path, error)) {
+    UWS_CHECK(fs::is_directory(path, error), path.string(), ": exists and is not a folder");
+    UWS_CHECK(fs::is_empty(path, error), path.string(),
+              ": output folder exists and is not empty (refusing to overwrite)");
+  }
+  final_path_ = fs::absolute(path).lexically_normal();
+  temp_path_ = final_path_.parent_path() /
+               (final_path_.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  fs::create_directories(temp_path_, error);
+  UWS_CHECK(!error, path.string(), ": cannot create the output folder: ", error.message());
+}
+
+StagedFolder::~StagedFolder() {
+  if (committed_) return;
+  std::error_code ignored;
+  std::filesystem::remove_all(temp_path_, ignored);
+}
+
+void StagedFolder::Commit() {
+  std::error_code error;
+  if (std::filesystem::exists(final_path_, error))
+    std::filesystem::remove(final_path_, error);  // the empty folder
+  std::filesystem::rename(temp_path_, final_path_, error);
+  UWS_CHECK(!error, final_path_.string(), ": cannot move the output into place: ", error.message());
+  committed_ = true;
+}
+
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents) {
   AtomicFile file(path);
   file.stream() << contents;

@@ -52,6 +52,26 @@ class OutputFolder {
   bool keep_ = false;
 };
 
+// A folder written whole or not at all (a dataset): its files go into
+// "<path>.tmp-<pid>" beside it, renamed onto `path` by Commit(). `path` must
+// not exist or be an empty folder (nothing is overwritten); the temporary
+// is removed if Commit() is not reached. Errors name `path`.
+class StagedFolder {
+ public:
+  explicit StagedFolder(const std::filesystem::path& path);
+  ~StagedFolder();
+  StagedFolder(const StagedFolder&) = delete;
+  StagedFolder& operator=(const StagedFolder&) = delete;
+
+  // Where to write until Commit().
+  const std::filesystem::path& path() const { return temp_path_; }
+  void Commit();
+
+ private:
+  std::filesystem::path final_path_, temp_path_;
+  bool committed_ = false;
+};
+
 // Writes a whole string atomically.
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents);
 

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "uwscan/util/error.h"
@@ -93,6 +94,40 @@ TEST_F(AtomicOutputTest, AFileInTheWayIsAClearError) {
               std::string::npos)
         << e.what();
   }
+}
+
+// A dataset folder appears whole on Commit() or not at all, and never
+// replaces one that holds something.
+TEST_F(AtomicOutputTest, AStagedFolderAppearsWholeOrNotAtAll) {
+  const fs::path out = root_ / "deeper" / "dataset";
+  {
+    StagedFolder staged(out);
+    WriteFileAtomic(staged.path() / "rig.yaml", "x");
+    EXPECT_FALSE(fs::exists(out));
+  }  // failed before Commit()
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(fs::is_empty(root_ / "deeper"));  // no temporary left
+  {
+    StagedFolder staged(out);
+    WriteFileAtomic(staged.path() / "rig.yaml", "x");
+    staged.Commit();
+  }
+  EXPECT_TRUE(fs::is_regular_file(out / "rig.yaml"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(root_ / "deeper"), fs::directory_iterator()), 1);
+  try {
+    StagedFolder staged(out);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              out.string() + ": output folder exists and is not empty (refusing to overwrite)");
+  }
+  fs::remove(out / "rig.yaml");  // an empty folder is taken
+  {
+    StagedFolder staged(out);
+    WriteFileAtomic(staged.path() / "frames.csv", "y");
+    staged.Commit();
+  }
+  EXPECT_TRUE(fs::is_regular_file(out / "frames.csv"));
 }
 
 }  // namespace
