@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "commands.h"
@@ -11,6 +12,7 @@
 #include "uwscan/calib/calibration_report.h"
 #include "uwscan/calib/detection_benchmark.h"
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::cli {
@@ -102,6 +104,10 @@ void RunCalibrateCamera(const CameraArgs& args) {
   } catch (const Error& e) {
     throw UsageError(e.what());
   }
+  // The report's folder is made before the (long) calibration, so that a
+  // place it cannot be made fails at once; it goes again if the run fails.
+  std::optional<OutputFolder> report_folder;
+  if (!args.report.empty()) report_folder.emplace(args.report);
   const CameraPipelineResult out = RunCameraCalibration(options);
   for (const std::string& line : out.log) {
     if (!args.quiet || line.find("image(s)") == std::string::npos)
@@ -121,8 +127,11 @@ void RunCalibrateCamera(const CameraArgs& args) {
     replaced = true;
   }
   if (!replaced) rig.cameras.push_back(calibrated);
+  if (report_folder) {
+    WriteReport(args.report, "calibration", out.report, &out.residual_plot);
+    report_folder->Keep();
+  }
   WriteRigYaml(args.out, rig);
-  if (!args.report.empty()) WriteReport(args.report, "calibration", out.report, &out.residual_plot);
   std::printf("wrote %s\n", args.out.c_str());
 }
 
@@ -163,6 +172,8 @@ void RunCalibrateLaser(const LaserArgs& args) {
                               Eigen::Vector3d(v[3], v[4], v[5]).normalized()};
     options.servo_angles_rad = ReadServoAngles(args.servo_angles);
   }
+  std::optional<OutputFolder> report_folder;  // made first, as for the camera
+  if (!args.report.empty()) report_folder.emplace(args.report);
   const LaserPipelineResult out = RunLaserCalibration(camera, options);
   const LaserCalibrationResult& result = out.result;
   std::printf(
@@ -178,8 +189,11 @@ void RunCalibrateLaser(const LaserArgs& args) {
   } else {
     rig.lasers.push_back(laser);
   }
+  if (report_folder) {
+    WriteReport(args.report, "laser_calibration", out.report, nullptr);
+    report_folder->Keep();
+  }
   WriteRigYaml(args.out, rig);
-  if (!args.report.empty()) WriteReport(args.report, "laser_calibration", out.report, nullptr);
   std::printf("wrote %s\n", args.out.c_str());
 }
 

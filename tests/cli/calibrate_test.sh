@@ -37,6 +37,14 @@ if [[ -f $DATA/left01.jpg ]]; then
   grep -q "laser0" "$TMP/out/rig2.yaml" || fail "--rig dropped the laser"
   [[ $(grep -c "name: cam0" "$TMP/out/rig2.yaml") == 1 ]] || fail "--rig duplicated the camera"
 
+  # A report that cannot be written fails before the calibration runs, and writes no rig; a
+  # calibration that fails leaves no report folder.
+  expect 1 "out/rig.yaml: cannot create the output folder" -- "$UWSCAN" calibrate camera \
+    --images "$TMP/five" --board 9x6:0.025 --out "$TMP/unreported.yaml" --report "$TMP/out/rig.yaml"
+  [ ! -e "$TMP/unreported.yaml" ] || fail "a rig written though its report could not be"
+  expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/five" \
+    --board 7x5:0.025 --out "$TMP/bad.yaml" --report "$TMP/failed/report"
+  [ ! -e "$TMP/failed" ] || fail "a failed calibration left its report folder"
   # Wrong board size: no board anywhere.
   expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/five" \
     --board 7x5:0.025 --out "$TMP/bad.yaml"
