@@ -58,7 +58,7 @@ void OutputFolder::RemoveMade() {
 
 StagedFolder::StagedFolder(const std::filesystem::path& path) {
   namespace fs = std::filesystem;
-  UWS_CHECK_OR_THROW(UsageError, !path.empty(), "--out: empty output folder name");
+  UWS_USAGE_CHECK(!path.empty(), "--out: empty output folder name");
   std::error_code error;
   if (fs::exists(path, error)) {
     UWS_CHECK(fs::is_directory(path, error), path.string(), ": exists and is not a folder");
