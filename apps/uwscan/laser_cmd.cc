@@ -69,11 +69,15 @@ void RegisterLaserCommands(CLI::App& app) {
     if (!overlay->empty()) job->overlay_dir = *overlay;
     const LaserDetectSummary s = RunLaserDetect(*job);
     if (!job->quiet) {
+      const std::string laser_off =
+          s.frames_laser_off > 0
+              ? ", " + std::to_string(s.frames_laser_off) + " with the laser off (skipped)"
+              : "";
       std::fprintf(stderr,
-                   "laser detect: %d frames (%d without a line, %d unreadable), %ld points, "
+                   "laser detect: %d frames (%d without a line%s, %d unreadable), %ld points, "
                    "%.1f frames/s -> %s\n",
-                   s.frames, s.frames_without_line, s.unreadable_frames, s.points,
-                   s.frames / std::max(s.seconds, 1e-9), out->c_str());
+                   s.frames, s.frames_without_line, laser_off.c_str(), s.unreadable_frames,
+                   s.points, s.frames / std::max(s.seconds, 1e-9), out->c_str());
       if (s.frames > 0 && s.frames_with_clipped_scene >= laser::kClippedFramesToWarn * s.frames) {
         std::fprintf(
             stderr, "laser detect: warning: %s\n",

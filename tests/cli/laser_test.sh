@@ -116,4 +116,15 @@ for bad in "--sigma 0" "--scan diagonal" "--channel infrared" "--albedo purple";
   grep -q -- "${bad%% *} must be" "$dir/err" || fail "$bad: unclear error: $(cat "$dir/err")"
   [ ! -e "$dir/z.csv" ] || fail "$bad wrote output"
 done
+# An interleaved scan (frames.csv's laser_on): the frames with the laser off are skipped, not
+# searched for a line they cannot have, and the summary counts them.
+"$bin" simulate tank-target --out "$dir/interleaved" --frames 6 --width 320 --height 240 \
+  --laser-interleave --quiet || fail "simulate an interleaved scan"
+"$bin" laser detect --dataset "$dir/interleaved" --out "$dir/il.csv" 2>"$dir/err" ||
+  fail "laser detect on an interleaved scan: $(cat "$dir/err")"
+grep -q "^laser detect: 6 frames (.*, 3 with the laser off (skipped), " "$dir/err" ||
+  fail "interleaved summary: $(cat "$dir/err")"
+off=$(awk -F, 'NR > 1 && $1 % 2 == 1' "$dir/il.csv" | wc -l)
+on=$(awk -F, 'NR > 1 && $1 % 2 == 0' "$dir/il.csv" | wc -l)
+[ "$off" -eq 0 ] && [ "$on" -gt 0 ] || fail "detections with the laser off: $off (on: $on)"
 echo "laser CLI: all checks passed"

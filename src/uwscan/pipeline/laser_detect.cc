@@ -105,6 +105,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   std::vector<fs::path> images;
   std::vector<int> indices;
   std::vector<double> angles;
+  std::vector<bool> laser_off;  // interleaved scans (frames.csv's laser_on): no line to find
   std::optional<Rig> rig;
   if (!job.dataset_dir.empty()) {
     rig = ReadRigYaml(job.dataset_dir / "rig.yaml");
@@ -114,11 +115,13 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       images.push_back(job.dataset_dir / record.file);
       indices.push_back(record.index);
       angles.push_back(record.laser_angle_rad.value_or(0.0));
+      laser_off.push_back(!record.laser_on.value_or(true));
     }
   } else {
     images = ListImageFiles(job.images_dir);
     for (size_t i = 0; i < images.size(); ++i) indices.push_back(static_cast<int>(i));
     angles.assign(images.size(), 0.0);
+    laser_off.assign(images.size(), false);
     if (job.rig_path) rig = ReadRigYaml(*job.rig_path);
   }
   const Camera* camera = rig ? &rig->CameraByName(job.camera_name) : nullptr;
@@ -165,8 +168,13 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   ProgressBar progress("laser detect", static_cast<long>(images.size()), !job.quiet);
   for (size_t i = 0; i < images.size(); ++i) {
     const size_t frame = static_cast<size_t>(indices[i]);
-    const cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_UNCHANGED);
     ++summary.frames;
+    if (laser_off[i]) {
+      ++summary.frames_laser_off;
+      progress.Update(static_cast<long>(i) + 1);
+      continue;
+    }
+    const cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_UNCHANGED);
     if (image.empty()) {
       std::cerr << "uwscan: warning: " << images[i].string()
                 << ": unreadable or truncated image, frame " << frame << " has no detections\n";

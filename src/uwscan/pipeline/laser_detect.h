@@ -34,6 +34,7 @@ struct LaserDetectJob {
 struct LaserDetectSummary {
   int frames = 0;
   int frames_without_line = 0;
+  int frames_laser_off = 0;  // skipped: frames.csv says the laser was off (interleaved scans)
   int unreadable_frames = 0;
   long points = 0;
   long profile_points = 0;
