@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/sim/scenario.h"
 #include "uwscan/sim/simulate.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
@@ -18,9 +19,8 @@ namespace fs = std::filesystem;
 
 struct DemoArgs {
   std::string out = "uwscan-demo";
-  // The thesis camera's resolution: at 640x480 the laser alone (true poses)
-  // gives ~1.8 mm on the target, at 1280x960 ~0.6 mm. About a minute here,
-  // most of it simulating.
+  // The thesis camera's resolution: the target's plane std is ~0.6 mm here,
+  // ~1 mm at 640x480 (gain 1). About a minute here, most of it simulating.
   int frames = 200;
   int width = 1280;
   int height = 960;
@@ -30,6 +30,10 @@ struct DemoArgs {
 
 void RunDemo(const DemoArgs& args) {
   if (args.frames < 20) throw UsageError("--frames must be >= 20");
+  UWS_USAGE_CHECK(args.width >= 320 && args.height >= 240,
+                  "--width/--height must be at least 320x240 (got ", args.width, "x", args.height,
+                  "): smaller, the laser line is under a pixel wide and the sensor's larger "
+                  "pixels clip at its lowest gain (uwscan simulate makes any size)");
   const fs::path out(args.out);
   const fs::path dataset = out / "dataset";
   std::error_code error;
@@ -38,15 +42,19 @@ void RunDemo(const DemoArgs& args) {
   InterruptibleScope interruptible;
   OutputFolder folder(out);  // removed again if the demo fails or is stopped before it fills it
 
-  std::printf(
-      "uwscan demo: a hovering ROV scans a checkerboard on the sea floor at 2 m with a green\n"
-      "laser on a servo and a red LED (thesis §6.4), %d frames at %dx%d, 144 Hz.\n",
-      args.frames, args.width, args.height);
   sim::ScenarioOptions options;
   options.frames = args.frames;
   options.width = args.width;
   options.height = args.height;
   options.seed = args.seed;
+  // Another size is the same sensor binned, its pixels larger: the camera's
+  // gain is set to the grey levels the scene was lit for at 1280x960, or the
+  // red LED's colour clips on most of a smaller image and the odometry fails.
+  options.gain = sim::GainOfTheThesisImage(args.width);
+  std::printf(
+      "uwscan demo: a hovering ROV scans a checkerboard on the sea floor at 2 m with a green\n"
+      "laser on a servo and a red LED (thesis §6.4), %d frames at %dx%d, 144 Hz, gain %.3g.\n",
+      args.frames, args.width, args.height, *options.gain);
   const auto simulated = sim::SimulateScenario("tank-target", options, dataset, !args.quiet);
   std::printf("1. simulated %d frames in %.1f s -> %s\n", simulated.frames, simulated.seconds,
               dataset.string().c_str());

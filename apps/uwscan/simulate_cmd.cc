@@ -11,7 +11,7 @@ namespace {
 struct SimulateArgs {
   std::string scenario, out, turbidity, output;
   int frames = 0, width = 0, height = 0, bits = 0, threads = 2, motion_blur = 1, supersample = 1;
-  double marine_snow = 0, painted_stripe = 0, gain = 0;
+  double marine_snow = 0, painted_stripe = 0, gain = 0, exposure_ms = 0;
   std::string stripe_colour = "white";
   uint64_t seed = 1;
   double motion_amplitude = -1, laser_power = -1, port_gap_mm = 1, port_tilt_deg = 0,
@@ -36,6 +36,7 @@ void RunSimulate(const SimulateArgs& args, const CLI::App& app) {
   if (given("--laser-power")) options.laser_power_w = args.laser_power;
   if (given("--bits")) options.bits = args.bits;
   if (given("--gain")) options.gain = args.gain;
+  if (given("--exposure-ms")) options.exposure_ms = args.exposure_ms;
   if (given("--port-gap-mm")) options.port_gap_mm = args.port_gap_mm;
   if (given("--port-tilt-deg")) options.port_tilt_deg = args.port_tilt_deg;
   if (given("--laser-tilt-deg")) options.laser_tilt_deg = args.laser_tilt_deg;
@@ -90,6 +91,10 @@ void RegisterSimulateCommand(CLI::App& app) {
   cmd->add_option("--gain", args->gain,
                   "analog gain: full scale at 10,000 e- / gain (default 4; a mono camera "
                   "gathers about 3x the light of a colour one, so about 1.3 matches it)");
+  cmd->add_option("--exposure-ms", args->exposure_ms,
+                  "shutter time (ms; default 6.94, the frame period at 144 Hz; at most the "
+                  "scenario's frame period): with --gain, what keeps a bright scene or smaller "
+                  "images (larger pixels) from clipping");
   cmd->add_option("--port-gap-mm", args->port_gap_mm,
                   "lens-to-window gap (mm; aquarium 1, scanner scenarios 7)");
   cmd->add_option("--port-tilt-deg", args->port_tilt_deg, "aquarium: window tilt (deg)")

@@ -67,7 +67,10 @@ done
 
 # Other scenarios and options.
 expect_status 0 "hull rgb turbid" "$uwscan" simulate hull --out "$work/hull" --frames 2 --width 96 \
-  --height 72 --turbidity turbid --output rgb --bits 16 --laser-power 0.1 --motion-amplitude 0.05 --quiet
+  --height 72 --turbidity turbid --output rgb --bits 16 --laser-power 0.1 --motion-amplitude 0.05 \
+  --gain 2 --exposure-ms 12.5 --quiet
+grep -q "  exposure_s: 0.0125$" "$work/hull/scene.yaml" || fail "exposure not in scene.yaml"
+grep -q "  gain: 2$" "$work/hull/scene.yaml" || fail "gain not in scene.yaml"
 expect_status 0 "snow and motion blur" "$uwscan" simulate tank-target --out "$work/snow" --frames 2 \
   --width 96 --height 72 --marine-snow 200 --motion-blur 3 --supersample 2 --quiet
 grep -q "per_m3: 200" "$work/snow/scene.yaml" || fail "snow not in scene.yaml"
@@ -203,7 +206,12 @@ expect_status 2 "negative snow" "$uwscan" simulate tank-target --out "$work/e8" 
 expect_status 2 "laser tilt out of range" "$uwscan" simulate laser-tilt --out "$work/e7" --laser-tilt-deg 45
 expect_status 2 "three pods" "$uwscan" simulate tank-target --out "$work/e9" --pods 3
 expect_status 2 "pods on the transect" "$uwscan" simulate seabed-transect --out "$work/e10" --pods 2
-for e in e1 e2 e3 e4 e5 e6 e7 e8 e9 e10; do [ ! -e "$work/$e" ] || fail "$e was created"; done
+expect_status 2 "exposure beyond the frame period" "$uwscan" simulate tank-target --out "$work/e11" \
+  --exposure-ms 8
+grep -q "exposure-ms 8 is longer than tank-target's frame period (6.94444 ms at 144 Hz)" "$work/err" ||
+  fail "exposure beyond the frame period: $(cat "$work/err")"
+expect_status 2 "zero exposure" "$uwscan" simulate hull --out "$work/e12" --exposure-ms 0
+for e in e1 e2 e3 e4 e5 e6 e7 e8 e9 e10 e11 e12; do [ ! -e "$work/$e" ] || fail "$e was created"; done
 grep -q "unknown scenario 'no-such'" <("$uwscan" simulate no-such --out "$work/e1" 2>&1) ||
   fail "unknown scenario message"
 

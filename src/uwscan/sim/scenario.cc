@@ -1,6 +1,7 @@
 #include "uwscan/sim/scenario.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "uwscan/sim/random.h"
@@ -262,6 +263,10 @@ void ScenarioOptions::Check() const {
     UWS_CHECK(std::isfinite(*gain) && *gain >= 1 && *gain <= 1000,
               "--gain must be in [1, 1000] (got ", *gain, ")");
   }
+  if (exposure_ms) {
+    UWS_CHECK(std::isfinite(*exposure_ms) && *exposure_ms > 0 && *exposure_ms <= 1000,
+              "--exposure-ms must be in (0, 1000] (got ", *exposure_ms, ")");
+  }
   if (port_gap_mm) {
     UWS_CHECK(std::isfinite(*port_gap_mm) && *port_gap_mm >= 0 && *port_gap_mm <= 100,
               "--port-gap-mm must be in [0, 100] (got ", *port_gap_mm, ")");
@@ -361,6 +366,12 @@ Camera ThesisCamera(int width, int height) {
   return camera;
 }
 
+double GainOfTheThesisImage(int width) {
+  UWS_CHECK(width > 0, "image width must be positive (got ", width, ")");
+  const double light = std::pow(1280.0 / width, 2);  // per pixel, against the 1280-wide image
+  return std::max(1.0, kDefaultGain / light);
+}
+
 Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
   options.Check();
   Scenario scenario;
@@ -388,6 +399,16 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options) {
                        ")");
     }
     AddSecondPod(&scenario.config);
+  }
+  if (options.exposure_ms) {
+    // A camera cannot expose longer than a frame lasts.
+    const double period_ms = 1000.0 / scenario.frame_rate_hz;
+    UWS_USAGE_CHECK(*options.exposure_ms <= period_ms * (1 + 1e-9), "--exposure-ms ",
+                    *options.exposure_ms, " is longer than ", name, "'s frame period (", period_ms,
+                    " ms at ", scenario.frame_rate_hz, " Hz)");
+    scenario.config.sensor.exposure_s = *options.exposure_ms * 1e-3;
+    for (auto& set : scenario.calibration)
+      set.config.sensor.exposure_s = scenario.config.sensor.exposure_s;
   }
   scenario.config.render.supersample = options.supersample;
   for (auto& set : scenario.calibration) set.config.render.supersample = options.supersample;

@@ -39,6 +39,9 @@ struct ScenarioOptions {
   // Analog gain: full scale at full_well_e / gain (default kDefaultGain; a
   // mono camera gathers about 3x the light of a colour one).
   std::optional<double> gain;
+  // Shutter time (default SensorOptions' 6.94 ms, the thesis's 144 Hz);
+  // at most the scenario's frame period.
+  std::optional<double> exposure_ms;
   int threads = 2;
   // aquarium (§6.1): gap between lens and window (1, 10, 20 mm in the
   // thesis) and window tilt; the scanner scenarios (tank-target, hull,
@@ -112,5 +115,12 @@ Scenario MakeScenario(const std::string& name, const ScenarioOptions& options);
 
 // The thesis camera (Tab. 6.3, flat port) scaled to a resolution.
 Camera ThesisCamera(int width, int height);
+
+// The scenarios' sensor is the thesis camera's binned to the image size: a
+// pixel of an image `width` wide is 1280 / width times as wide, and gathers
+// the square of that in light. The analog gain that gives it the grey levels
+// of the 1280-wide image at the default gain, as an operator would set it,
+// but not below the lowest, 1 (below 640 px the pixels get more light).
+double GainOfTheThesisImage(int width);
 
 }  // namespace uwscan::sim

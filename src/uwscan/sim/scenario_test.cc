@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -261,6 +262,51 @@ TEST(ScenarioTest, GainScalesTheDigitisedImage) {
   EXPECT_NEAR(high / low, 2.0, 0.1);  // rounding, and the few pixels the line clips
   options.gain = 0.5;
   EXPECT_THROW(MakeScenario("tank-target", options), Error);
+}
+
+// --exposure-ms sets the shutter time of every scenario (default the
+// sensor's 6.94 ms): the light gathered scales with it, the calibration
+// sets' too; longer than the scenario's frame period is refused.
+TEST(ScenarioTest, ExposureScalesTheLightGathered) {
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.output = OutputFormat::kMono;
+  const double default_s = SensorOptions{}.exposure_s;
+  for (const std::string& name : ScenarioNames())
+    EXPECT_DOUBLE_EQ(MakeScenario(name, options).config.sensor.exposure_s, default_s) << name;
+  const auto mean_electrons = [&](double exposure_ms) {
+    options.exposure_ms = exposure_ms;
+    Scenario scenario = MakeScenario("tank-target", options);
+    EXPECT_DOUBLE_EQ(scenario.config.sensor.exposure_s, exposure_ms * 1e-3);
+    scenario.config.sensor.noise = false;
+    const FrameState state = scenario.FrameAt(Trajectory(scenario.motion), 0);
+    return cv::mean(Renderer(scenario.config).Render(state).electrons)[0];
+  };
+  const double full = mean_electrons(6.0), half = mean_electrons(3.0);
+  EXPECT_GT(full, 100.0);
+  EXPECT_NEAR(half / full, 0.5, 1e-6);
+  options.exposure_ms = 2.0;
+  for (const auto& set : MakeScenario("laser-tilt", options).calibration)
+    EXPECT_DOUBLE_EQ(set.config.sensor.exposure_s, 2e-3) << set.name;
+  options.exposure_ms = 7.0;  // 144 Hz: a frame lasts 6.94 ms
+  EXPECT_THROW(MakeScenario("tank-target", options), UsageError);
+  EXPECT_NO_THROW(MakeScenario("hull", options));  // 50 Hz
+  for (const double bad : {0.0, -1.0, std::nan(""), 2000.0}) {
+    options.exposure_ms = bad;
+    EXPECT_THROW(MakeScenario("hull", options), Error) << bad;
+  }
+}
+
+// The gain that gives a smaller image (the sensor binned, its pixels
+// larger) the grey levels of the thesis camera's 1280x960 at the default
+// gain: 4 there, 1 at 640 (4x the light per pixel), never below 1.
+TEST(ScenarioTest, GainOfTheThesisImage) {
+  EXPECT_DOUBLE_EQ(GainOfTheThesisImage(1280), kDefaultGain);
+  EXPECT_DOUBLE_EQ(GainOfTheThesisImage(640), 1.0);
+  EXPECT_DOUBLE_EQ(GainOfTheThesisImage(320), 1.0);
+  EXPECT_DOUBLE_EQ(GainOfTheThesisImage(2560), 16.0);
+  EXPECT_NEAR(GainOfTheThesisImage(960), kDefaultGain * 0.5625, 1e-12);
 }
 
 // --port-gap-mm moves the scanner scenarios' lens back from the window
