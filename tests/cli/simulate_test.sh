@@ -51,6 +51,8 @@ for key in real_time_factor peak_memory_mb cpu_s cores_busy load_average_before 
   grep -q "\"$key\": [0-9]" "$work/out" || fail "bench pipeline: no $key"
 done
 grep -q '"images_read_before_timing": true' "$work/out" || fail "bench pipeline: images not read first"
+# Its smaller tank is exposed as the 1280x960 one was lit for (gain 1, not 4): nothing clips.
+grep -q '"frames_with_clipped_features": 0,' "$work/out" || fail "bench pipeline: the features clip"
 # The images just simulated are all in the page cache.
 grep -q '"images_in_page_cache_before": 1\.0' "$work/out" || fail "bench pipeline: page cache share"
 awk -v cores="$(nproc)" '/"cores_busy":/ { sub(",", "", $2); ok = $2 > 0 && $2 <= cores + 0.5 }

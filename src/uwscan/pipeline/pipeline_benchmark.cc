@@ -9,6 +9,7 @@
 
 #include "uwscan/io/page_cache.h"
 #include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/sim/scenario.h"
 #include "uwscan/sim/simulate.h"
 #include "uwscan/util/error.h"
 
@@ -48,6 +49,9 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
     scenario.frames = options.frames;
     scenario.width = options.width;
     scenario.height = options.height;
+    // Exposed as the 1280x960 scene was lit for (a smaller image's larger
+    // pixels would clip at the default gain), as `uwscan demo` does.
+    scenario.gain = sim::GainOfTheThesisImage(options.width);
     job.dataset = scratch / "dataset";
     simulate_seconds = sim::SimulateScenario("tank-target", scenario, job.dataset).seconds;
   }
