@@ -109,6 +109,16 @@ expect_status 0 "two pods, first camera" "$uwscan" reconstruct --dataset "$work/
 expect_status 1 "two pods, cam1 on the top folder" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.cam1" --poses "$work/pods/groundtruth.tum" --camera cam1 --quiet
 grep -q "pods/cam1" "$work/err" || fail "two pods: --camera cam1 error does not say where"
+# One colour frame among raw Bayer ones (another export's): named, exit 1, no output. It used to
+# be read as raw samples of a mosaic, or end the odometry with "frame 1: a colour image".
+expect_status 0 "an rgb frame" "$uwscan" simulate tank-target --out "$work/rgb1" --frames 1 \
+  --width 160 --height 120 --seed 7 --output rgb --quiet
+cp -r "$work/ds" "$work/mixed" && cp "$work/rgb1/frames/000000.png" "$work/mixed/frames/000001.png"
+expect_status 1 "reconstruct, a colour frame among raw ones" "$uwscan" reconstruct \
+  --dataset "$work/mixed" --out "$work/mixed.out" --poses "$work/mixed/groundtruth.tum" --quiet
+grep -q "mixed/frames/000001.png: a 3-channel 8-bit image, but the frames before are 1-channel 8-bit (.*mixed/frames/000000.png)" \
+  "$work/err" || fail "a colour frame among raw ones: $(cat "$work/err")"
+[ ! -e "$work/mixed.out" ] || fail "a colour frame among raw ones: output left"
 expect_status 2 "reconstruct --track-every 0" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.every0" --track-every 0 --quiet
 grep -q "track-every must be auto or a count >= 1, got '0'" "$work/err" || fail "--track-every 0: unclear error"

@@ -48,6 +48,16 @@ cv::Mat ReadImage(const std::filesystem::path& path) {
   return image;
 }
 
+std::string ImageTypeName(int type) {
+  const int depth = CV_MAT_DEPTH(type);
+  const std::string bits = depth == CV_8U || depth == CV_8S     ? "8-bit"
+                           : depth == CV_16U || depth == CV_16S ? "16-bit"
+                           : depth == CV_32F                    ? "32-bit float"
+                           : depth == CV_64F                    ? "64-bit float"
+                                                                : "32-bit";
+  return std::to_string(CV_MAT_CN(type)) + "-channel " + bits;
+}
+
 cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer) {
   if (raw.empty() || raw.channels() != 1 || bayer == "none") return raw;
   // OpenCV names Bayer codes by the second row's pattern start: RGGB is BayerBG.

@@ -18,6 +18,8 @@ cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer);
 
 // Reads any image unchanged (bit depth and channels kept).
 cv::Mat ReadImage(const std::filesystem::path& path);
+// An OpenCV image type in words: "1-channel 8-bit", "3-channel 16-bit".
+std::string ImageTypeName(int type);
 
 // The image files of a folder (png, jpg, jpeg, tif, tiff, pgm, ppm, bmp, any
 // case), sorted by name. Throws uwscan::Error naming the folder if it is

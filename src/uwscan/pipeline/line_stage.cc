@@ -67,6 +67,14 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
   UWS_CHECK(image.cols == camera_.width && image.rows == camera_.height,
             (dataset_ / record.file).string(), ": image is ", image.cols, "x", image.rows,
             " but camera '", camera_.name, "' is ", camera_.width, "x", camera_.height);
+  // One colour frame among raw Bayer ones (or a 16-bit one among 8-bit
+  // ones) is another camera's or another export's: its colours and levels
+  // would be read as the others'.
+  if (first_image_type_ < 0) first_image_type_ = image.type();
+  UWS_CHECK(image.type() == first_image_type_, (dataset_ / record.file).string(), ": a ",
+            ImageTypeName(image.type()), " image, but the frames before are ",
+            ImageTypeName(first_image_type_), " (", (dataset_ / frames_.front().file).string(),
+            ")");
   auto t = std::chrono::steady_clock::now();
   // Interleaved scans (frames.csv laser_on, thesis §5.4): nothing to detect
   // with the laser off; with it on, the line is found in the difference to

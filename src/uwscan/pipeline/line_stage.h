@@ -47,7 +47,8 @@ class LineStage {
   static constexpr int kPriorNeighbourLines = 32;
 
   // Frame i of the sequence, its image as read: the line and its profile.
-  // Throws uwscan::Error (naming the file) if the image has the wrong size.
+  // Throws uwscan::Error (naming the file) if the image has the wrong size,
+  // or other channels or bit depth than the first frame's.
   void Process(size_t i, const cv::Mat& image, laser::Detection* detection,
                laser::Profile* profile);
 
@@ -77,7 +78,8 @@ class LineStage {
   std::vector<std::pair<float, float>> line_prior_;
   int prior_lines_ = 0;
   int windowed_frames_ = 0;
-  cv::Mat dark_image_;  // the last laser-off frame of an interleaved scan
+  cv::Mat dark_image_;         // the last laser-off frame of an interleaved scan
+  int first_image_type_ = -1;  // the first frame's OpenCV type: every frame's
   size_t dark_frame_ = 0;
 };
 
