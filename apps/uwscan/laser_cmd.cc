@@ -4,6 +4,7 @@
 #include <string>
 
 #include "commands.h"
+#include "uwscan/io/image.h"
 #include "uwscan/laser/clipping.h"
 #include "uwscan/laser/profile.h"
 #include "uwscan/pipeline/laser_detect.h"
@@ -68,6 +69,13 @@ void RegisterLaserCommands(CLI::App& app) {
     if (!profiles->empty()) job->profiles_csv = *profiles;
     if (!overlay->empty()) job->overlay_dir = *overlay;
     const LaserDetectSummary s = RunLaserDetect(*job);
+    if (!s.mosaic_frame.empty()) {
+      std::fprintf(stderr, "laser detect: warning: %s; %s\n",
+                   MosaicWarning(s.mosaic_frame, s.mosaic_phase_ratio).c_str(),
+                   job->rig_path || !job->dataset_dir.empty()
+                       ? "set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml"
+                       : "give --rig with the camera's bayer (rggb, bggr, grbg or gbrg)");
+    }
     if (!job->quiet) {
       const std::string laser_off =
           s.frames_laser_off > 0

@@ -52,6 +52,24 @@ for frame, centre in ((0, 60.25), (2, 100.5)):
 PY
 [ -f "$dir/overlay/000.png" ] || fail "overlay image"
 ! grep -q "full scale" "$dir/err" || fail "no clipping on these frames: $(cat "$dir/err")"
+! grep -q "mosaic" "$dir/err" || fail "mono frames taken for a mosaic: $(cat "$dir/err")"
+
+# The same frame as a raw Bayer mosaic under a reddish light (R G / G B samples at 1, 0.6, 0.6,
+# 0.3 of it), read without a rig (a mono camera): a warning names the frame and says what to do.
+mkdir -p "$dir/mosaic"
+python3 - "$dir/frames/000.pgm" "$dir/mosaic/000.pgm" <<'PY' || fail "write a mosaic"
+import sys
+data = open(sys.argv[1], "rb").read()
+header, pixels = data[:15], bytearray(data[15:])  # "P5\n160 120\n255\n"
+gain = ((1.0, 0.6), (0.6, 0.3))
+for i in range(len(pixels)):
+    pixels[i] = int(pixels[i] * gain[(i // 160) % 2][i % 2])
+open(sys.argv[2], "wb").write(header + bytes(pixels))
+PY
+"$bin" laser detect --images "$dir/mosaic" --out "$dir/mosaic.csv" --quiet 2>"$dir/err" \
+  || fail "detect on a mosaic: $(cat "$dir/err")"
+grep -q "^laser detect: warning: $dir/mosaic/000.pgm: a single-channel frame whose 2x2 pixel phases differ in mean by a factor of [0-9.]*: it looks like a raw Bayer mosaic.*; give --rig with the camera's bayer" \
+  "$dir/err" || fail "no warning for a mosaic read as mono: $(cat "$dir/err")"
 
 # A scene clipped on a quarter of the image (a mono camera at a colour
 # camera's exposure): the line is still found beside it, and a warning says why

@@ -119,6 +119,21 @@ expect_status 1 "reconstruct, a colour frame among raw ones" "$uwscan" reconstru
 grep -q "mixed/frames/000001.png: a 3-channel 8-bit image, but the frames before are 1-channel 8-bit (.*mixed/frames/000000.png)" \
   "$work/err" || fail "a colour frame among raw ones: $(cat "$work/err")"
 [ ! -e "$work/mixed.out" ] || fail "a colour frame among raw ones: output left"
+# Raw Bayer frames with a rig that says bayer: none (a mono camera): a warning names the first
+# frame and says what to set; report.json has the phases' ratio (null for the right rig).
+cp -r "$work/ds" "$work/asmono" && sed -i 's/bayer: rggb/bayer: none/' "$work/asmono/rig.yaml"
+expect_status 0 "reconstruct raw frames as mono" "$uwscan" reconstruct --dataset "$work/asmono" \
+  --out "$work/asmono.out" --poses "$work/asmono/groundtruth.tum" --quiet
+grep -q "warning: $work/asmono/frames/000000.png: a single-channel frame whose 2x2 pixel phases differ in mean by a factor of [0-9.]*: it looks like a raw Bayer mosaic.*; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml$" \
+  "$work/err" || fail "raw frames as mono: no warning: $(cat "$work/err")"
+grep -q '"mosaic_phase_ratio": [0-9]' "$work/asmono.out/report.json" || fail "raw frames as mono: ratio"
+expect_status 0 "vo on raw frames as mono" "$uwscan" vo --dataset "$work/asmono" --out "$work/asmono.tum"
+grep -q "warning: $work/asmono/frames/000000.png: a single-channel frame whose 2x2 pixel phases" \
+  "$work/err" || fail "vo on raw frames as mono: no warning: $(cat "$work/err")"
+expect_status 0 "reconstruct raw frames" "$uwscan" reconstruct --dataset "$work/ds" \
+  --out "$work/ds.out" --poses "$work/ds/groundtruth.tum" --quiet
+grep -q '"mosaic_phase_ratio": null' "$work/ds.out/report.json" || fail "raw frames: a ratio"
+! grep -q "mosaic" "$work/err" || fail "raw frames: a mosaic warning: $(cat "$work/err")"
 expect_status 2 "reconstruct --track-every 0" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.every0" --track-every 0 --quiet
 grep -q "track-every must be auto or a count >= 1, got '0'" "$work/err" || fail "--track-every 0: unclear error"

@@ -19,6 +19,7 @@ done
 poses=$(grep -vc '^#' "$dir/t.tum")
 [ "$poses" -ge 54 ] || fail "only $poses poses"
 grep -q "^59,.*,tracked," "$dir/status.csv" || fail "last frame not tracked"
+! grep -q "mosaic" "$dir/log" || fail "mono frames taken for a mosaic: $(cat "$dir/log")"
 "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" >"$dir/eval" || fail "evaluate"
 ate=$(sed -n 's/^ATE (after alignment): rmse \([0-9.]*\) m.*/\1/p' "$dir/eval")
 drift=$(sed -n 's/^drift (KITTI.*): \([0-9.]*\) % translation.*/\1/p' "$dir/eval")

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -56,6 +58,34 @@ std::string ImageTypeName(int type) {
                            : depth == CV_64F                    ? "64-bit float"
                                                                 : "32-bit";
   return std::to_string(CV_MAT_CN(type)) + "-channel " + bits;
+}
+
+double MosaicPhaseRatio(const cv::Mat& image) {
+  if (image.channels() != 1 || image.cols < 16 || image.rows < 16) return std::nan("");
+  if (image.depth() != CV_8U && image.depth() != CV_16U) return std::nan("");
+  const double full_scale = image.depth() == CV_8U ? 255.0 : 65535.0;
+  double sum[2][2] = {{0, 0}, {0, 0}};
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      sum[y % 2][x % 2] +=
+          image.depth() == CV_8U ? image.at<uint8_t>(y, x) : image.at<uint16_t>(y, x);
+    }
+  }
+  const auto mean = [&](int y, int x) {  // the phase's pixels: odd sizes have fewer in the last
+    return sum[y][x] / (double((image.rows - y + 1) / 2) * double((image.cols - x + 1) / 2));
+  };
+  const std::initializer_list<double> means = {mean(0, 0), mean(0, 1), mean(1, 0), mean(1, 1)};
+  const double brightest = std::max(means), darkest = std::min(means);
+  if (brightest < 0.02 * full_scale) return std::nan("");
+  return brightest / std::max(darkest, 0.01 * full_scale);
+}
+
+std::string MosaicWarning(const std::filesystem::path& file, double ratio) {
+  char factor[32];
+  std::snprintf(factor, sizeof factor, "%.2f", ratio);
+  return file.string() + ": a single-channel frame whose 2x2 pixel phases differ in mean by a " +
+         "factor of " + factor + ": it looks like a raw Bayer mosaic, but the camera is taken " +
+         "for a mono one (bayer: none), and its colours are read as one grey image";
 }
 
 cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer) {

@@ -21,6 +21,19 @@ cv::Mat ReadImage(const std::filesystem::path& path);
 // An OpenCV image type in words: "1-channel 8-bit", "3-channel 16-bit".
 std::string ImageTypeName(int type);
 
+// The ratio of the brightest to the darkest mean of a single-channel
+// image's four 2x2 pixel phases (the darkest floored at 1 % of full scale):
+// about 1 for a mono camera's image, the colours' ratio for a raw Bayer
+// mosaic, whose phases are different colours. NaN for other images, and for
+// ones too small (under 16x16) or too dark (brightest phase under 2 % of
+// full scale) to say.
+double MosaicPhaseRatio(const cv::Mat& image);
+// A ratio from which a single-channel frame is taken for a raw mosaic: a
+// mono image's phases differ by well under a percent over a frame.
+constexpr double kMosaicPhaseRatio = 1.25;
+// What to say of such a frame where the camera is taken for a mono one.
+std::string MosaicWarning(const std::filesystem::path& file, double ratio);
+
 // The image files of a folder (png, jpg, jpeg, tif, tiff, pgm, ppm, bmp, any
 // case), sorted by name. Throws uwscan::Error naming the folder if it is
 // none or holds no image; for a dataset folder (images in its frames/) the

@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 #include "uwscan/io/image.h"
@@ -281,6 +283,44 @@ TEST_F(ReadImageTest, ListImageFilesFindsAFoldersImagesAndSaysWhereADatasetsAre)
                                   ": no images (png, jpg, tif, pgm, ppm, bmp) in the folder; it "
                                   "is a dataset, whose images are in " +
                                   (dataset / "frames").string());
+}
+
+TEST(ImageTypeName, SaysChannelsAndBits) {
+  EXPECT_EQ(ImageTypeName(CV_8UC1), "1-channel 8-bit");
+  EXPECT_EQ(ImageTypeName(CV_16UC3), "3-channel 16-bit");
+  EXPECT_EQ(ImageTypeName(CV_32FC1), "1-channel 32-bit float");
+}
+
+// A mono camera's frame has the same mean on its four 2x2 pixel phases; a
+// raw Bayer mosaic's phases are different colours. Here a smooth texture,
+// and the same texture seen through an RGGB filter under a reddish light.
+TEST(MosaicPhaseRatio, TellsARawMosaicFromAMonoImage) {
+  cv::Mat noise(240, 321, CV_32F);  // an odd width: the last column's phase has fewer pixels
+  cv::randu(noise, 0.0, 1.0);
+  cv::Mat texture;
+  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 3.0);
+  cv::normalize(texture, texture, 40, 200, cv::NORM_MINMAX);
+  cv::Mat mono, mosaic = texture.clone();
+  texture.convertTo(mono, CV_8U);
+  const float colour[2][2] = {{1.0f, 0.6f}, {0.6f, 0.3f}};  // R G / G B
+  for (int y = 0; y < mosaic.rows; ++y)
+    for (int x = 0; x < mosaic.cols; ++x) mosaic.at<float>(y, x) *= colour[y % 2][x % 2];
+  cv::Mat raw, raw16, mono16;
+  mosaic.convertTo(raw, CV_8U);
+  mosaic.convertTo(raw16, CV_16U, 256.0);
+  mono.convertTo(mono16, CV_16U, 256.0);
+  EXPECT_LT(MosaicPhaseRatio(mono), 1.02);
+  EXPECT_LT(MosaicPhaseRatio(mono16), 1.02);
+  EXPECT_NEAR(MosaicPhaseRatio(raw), 1.0 / 0.3, 0.05);
+  EXPECT_NEAR(MosaicPhaseRatio(raw16), 1.0 / 0.3, 0.05);
+  EXPECT_GT(MosaicPhaseRatio(raw), kMosaicPhaseRatio);
+  EXPECT_LT(MosaicPhaseRatio(mono), kMosaicPhaseRatio);
+  // Not to be judged: colour, too small, too dark.
+  cv::Mat bgr;
+  cv::cvtColor(mono, bgr, cv::COLOR_GRAY2BGR);
+  EXPECT_TRUE(std::isnan(MosaicPhaseRatio(bgr)));
+  EXPECT_TRUE(std::isnan(MosaicPhaseRatio(raw(cv::Rect(0, 0, 8, 8)))));
+  EXPECT_TRUE(std::isnan(MosaicPhaseRatio(cv::Mat(64, 64, CV_8U, cv::Scalar(3)))));
 }
 
 }  // namespace

@@ -189,6 +189,14 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, images[i].string(),
               ": only 8- and 16-bit images are supported");
     const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
+    if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1 &&
+        layout == laser::ColourLayout::kMono) {
+      const double ratio = MosaicPhaseRatio(image);
+      if (ratio > kMosaicPhaseRatio) {
+        summary.mosaic_frame = images[i].string();
+        summary.mosaic_phase_ratio = ratio;
+      }
+    }
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);
     if (detection.points.empty()) ++summary.frames_without_line;
     const laser::ClippedScene clipped = laser::MeasureClipping(image, layout, options.laser_channel,

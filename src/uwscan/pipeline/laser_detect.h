@@ -44,6 +44,11 @@ struct LaserDetectSummary {
   // share over all frames (laser::MeasureClipping).
   int frames_with_clipped_scene = 0;
   double clipped_scene_share = 0.0;
+  // The first frame, if single-channel while the camera is taken for a mono
+  // one (no rig, or bayer: none) and it looks like a raw Bayer mosaic
+  // (MosaicPhaseRatio above kMosaicPhaseRatio), and the ratio.
+  std::string mosaic_frame;
+  double mosaic_phase_ratio = 0.0;
   double seconds = 0.0;
 };
 

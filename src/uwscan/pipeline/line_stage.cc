@@ -70,7 +70,14 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
   // One colour frame among raw Bayer ones (or a 16-bit one among 8-bit
   // ones) is another camera's or another export's: its colours and levels
   // would be read as the others'.
-  if (first_image_type_ < 0) first_image_type_ = image.type();
+  if (first_image_type_ < 0) {
+    first_image_type_ = image.type();
+    const double ratio = camera_.bayer == "none" ? MosaicPhaseRatio(image) : std::nan("");
+    if (ratio > kMosaicPhaseRatio && report_->mosaic_frame.empty()) {
+      report_->mosaic_frame = (dataset_ / record.file).string();
+      report_->mosaic_phase_ratio = ratio;
+    }
+  }
   UWS_CHECK(image.type() == first_image_type_, (dataset_ / record.file).string(), ": a ",
             ImageTypeName(image.type()), " image, but the frames before are ",
             ImageTypeName(first_image_type_), " (", (dataset_ / frames_.front().file).string(),

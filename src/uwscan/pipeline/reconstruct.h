@@ -199,6 +199,11 @@ struct ReconstructReport {
   int frames_with_clipped_features = 0;
   std::string features_colour;           // its name ("red"); empty: not measured
   int frames_sweep_filter_restored = 0;  // nearly the whole line would have gone: kept
+  // A camera whose rig.yaml says bayer: none, its first frame single-channel
+  // with MosaicPhaseRatio above kMosaicPhaseRatio: the frame and the ratio
+  // (empty: none such).
+  std::string mosaic_frame;
+  double mosaic_phase_ratio = 0.0;
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   // Of seconds_io: waiting for the reading thread's next image (read,

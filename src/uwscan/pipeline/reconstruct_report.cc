@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "uwscan/io/image.h"
 #include "uwscan/laser/clipping.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/vo_run.h"
@@ -266,6 +267,10 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
   }
+  if (!mosaic_frame.empty()) {
+    warnings.push_back(MosaicWarning(mosaic_frame, mosaic_phase_ratio) +
+                       "; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml");
+  }
   if (frames_clipping_examined > 0 &&
       frames_with_clipped_scene >= laser::kClippedFramesToWarn * frames_clipping_examined) {
     warnings.push_back(laser::ClippedSceneWarning(frames_with_clipped_scene, ClippedSceneShare()));
@@ -426,6 +431,8 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"frames_with_clipped_scene", frames_with_clipped_scene},
           {"clipped_scene_share", ClippedSceneShare()},
           {"frames_with_clipped_features", frames_with_clipped_features},
+          {"mosaic_phase_ratio",
+           mosaic_frame.empty() ? nlohmann::json() : nlohmann::json(mosaic_phase_ratio)},
           {"clipped_features_share", ClippedFeaturesShare()},
           {"features_colour", features_colour},
           {"pose_source", pose_source},

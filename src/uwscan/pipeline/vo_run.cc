@@ -12,6 +12,7 @@
 
 #include "uwscan/eval/port_analysis.h"
 #include "uwscan/fusion/self_referenced.h"
+#include "uwscan/io/image.h"
 #include "uwscan/laser/detector.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/pipeline/vo_dataset.h"
@@ -93,9 +94,9 @@ void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
     throw UsageError("--max-dormant-frames must be >= 0, got " +
                      std::to_string(tracker.max_dormant_frames));
   }
-  UWS_USAGE_CHECK(std::isfinite(odometry.initial_median_depth_m) &&
-                      odometry.initial_median_depth_m > 0,
-                  "--initial-depth must be a distance > 0 m, got ", odometry.initial_median_depth_m);
+  UWS_USAGE_CHECK(
+      std::isfinite(odometry.initial_median_depth_m) && odometry.initial_median_depth_m > 0,
+      "--initial-depth must be a distance > 0 m, got ", odometry.initial_median_depth_m);
 }
 
 VoRunSummary RunVisualOdometry(const VoJob& job) {
@@ -169,6 +170,12 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
     if (raw.empty()) {
       ++summary.unreadable;
       warn("frame " + std::to_string(entry.index) + ": cannot read " + entry.file);
+    } else if (summary.unreadable == i && rig_camera.bayer == "none") {  // the first frame read
+      const double ratio = MosaicPhaseRatio(raw);
+      if (ratio > kMosaicPhaseRatio) {
+        warn(MosaicWarning(dataset.dir / entry.file, ratio) +
+             "; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml");
+      }
     }
     cv::Mat mask;
     if (job.mask_laser && !raw.empty() && raw.cols == rig_camera.width &&
