@@ -21,6 +21,16 @@ inline void AddAsyncBundleAdjustmentFlags(CLI::App* cmd, std::optional<bool>* as
   on->excludes(off);
 }
 
+// `--sample-bits N` (ScaleLowBitSamples), the same for every command that
+// reads a camera's frames.
+inline void AddSampleBitsOption(CLI::App* cmd, int* sample_bits) {
+  cmd->add_option("--sample-bits", *sample_bits,
+                  "16-bit frames hold samples of N bits in their low bits (a 10- or 12-bit "
+                  "camera's frames saved unpacked): scaled up to the 16-bit range (16 = as "
+                  "stored)")
+      ->capture_default_str();
+}
+
 void RegisterCameraCommands(CLI::App& app);
 void RegisterAnalyzeCommands(CLI::App& app);
 void RegisterBenchCommands(CLI::App& app);

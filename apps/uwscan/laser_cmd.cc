@@ -33,6 +33,7 @@ void RegisterLaserCommands(CLI::App& app) {
 
   detect->add_option("--rig", *rig, "rig.yaml: image size, Bayer pattern, laser colour and pose");
   detect->add_option("--camera", job->camera_name, "camera name (default: the first)");
+  AddSampleBitsOption(detect, &job->sample_bits);
   detect->add_option("--out", *out, "detections.csv")->required();
   detect->add_option("--method", *method, "thesis | cog | argmax")->capture_default_str();
   detect->add_option("--overlay", *overlay, "folder for images with the detections drawn");
@@ -69,6 +70,10 @@ void RegisterLaserCommands(CLI::App& app) {
     if (!profiles->empty()) job->profiles_csv = *profiles;
     if (!overlay->empty()) job->overlay_dir = *overlay;
     const LaserDetectSummary s = RunLaserDetect(*job);
+    if (!s.low_bits_frame.empty()) {
+      std::fprintf(stderr, "laser detect: warning: %s\n",
+                   LowSampleBitsWarning(s.low_bits_frame, s.low_sample_bits).c_str());
+    }
     if (!s.mosaic_frame.empty()) {
       std::fprintf(stderr, "laser detect: warning: %s; %s\n",
                    MosaicWarning(s.mosaic_frame, s.mosaic_phase_ratio).c_str(),

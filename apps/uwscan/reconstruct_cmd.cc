@@ -76,6 +76,7 @@ void RegisterReconstructCommand(CLI::App& app) {
                 "poses through the rig)");
   cmd->add_option("--laser", job->laser_name, "laser name (default: the first)");
   cmd->add_option("--max-frames", job->max_frames, "process only the first N frames (0 = all)");
+  AddSampleBitsOption(cmd, &job->sample_bits);
   cmd->add_flag("--keep-static-detections", *keep_static,
                 "keep line candidates that behave like scene texture (removed by default, "
                 "thesis §5.5: on servo scans those that stay put while the laser sweeps, with a "

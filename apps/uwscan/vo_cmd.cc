@@ -71,6 +71,7 @@ void RegisterVoCommand(CLI::App& app) {
                                 "frames later (frames are not held up by it); by default above "
                                 "100 Hz");
   vo->add_option("--max-frames", job->max_frames, "stop after this many frames (0 = all)");
+  AddSampleBitsOption(vo, &job->sample_bits);
   vo->add_flag("--quiet", job->quiet, "no progress and no summary");
 
   auto synth_options = std::make_shared<SyntheticVoOptions>();

@@ -134,6 +134,14 @@ expect_status 0 "reconstruct raw frames" "$uwscan" reconstruct --dataset "$work/
   --out "$work/ds.out" --poses "$work/ds/groundtruth.tum" --quiet
 grep -q '"mosaic_phase_ratio": null' "$work/ds.out/report.json" || fail "raw frames: a ratio"
 ! grep -q "mosaic" "$work/err" || fail "raw frames: a mosaic warning: $(cat "$work/err")"
+for cmd in "reconstruct --out $work/sb.out" "vo --out $work/sb.tum" "laser detect --out $work/sb.csv"; do
+  # shellcheck disable=SC2086
+  expect_status 2 "$cmd --sample-bits 8" "$uwscan" $cmd --dataset "$work/ds" --sample-bits 8
+  grep -q -- "--sample-bits must be 9-16 (16: as stored), got 8" "$work/err" ||
+    fail "$cmd --sample-bits 8: $(cat "$work/err")"
+done
+[ ! -e "$work/sb.out" ] && [ ! -e "$work/sb.tum" ] && [ ! -e "$work/sb.csv" ] ||
+  fail "--sample-bits 8 wrote output"
 expect_status 2 "reconstruct --track-every 0" "$uwscan" reconstruct --dataset "$work/pods" \
   --out "$work/pods.every0" --track-every 0 --quiet
 grep -q "track-every must be auto or a count >= 1, got '0'" "$work/err" || fail "--track-every 0: unclear error"

@@ -88,6 +88,56 @@ std::string MosaicWarning(const std::filesystem::path& file, double ratio) {
          "for a mono one (bayer: none), and its colours are read as one grey image";
 }
 
+void ScaleLowBitSamples(cv::Mat* image, int sample_bits, const std::filesystem::path& file) {
+  if (sample_bits == 0 || sample_bits == 16 || image->empty()) return;
+  UWS_CHECK(sample_bits >= 9 && sample_bits < 16, "sample bits must be 9-16 (got ", sample_bits,
+            ")");
+  UWS_CHECK(image->depth() == CV_16U, file.string(), ": a ", ImageTypeName(image->type()),
+            " frame, but ", sample_bits, "-bit samples are looked for in 16-bit ones");
+  double brightest = 0;
+  cv::minMaxLoc(image->reshape(1), nullptr, &brightest);
+  const int limit = (1 << sample_bits) - 1;
+  UWS_CHECK(brightest <= limit, file.string(), ": a sample of ", brightest, " does not fit ",
+            sample_bits, " bits (at most ", limit, ")");
+  *image *= double(1 << (16 - sample_bits));
+}
+
+int LowSampleBits(const cv::Mat& image) {
+  if (image.empty() || image.depth() != CV_16U) return 0;
+  const cv::Mat samples = image.reshape(1);
+  double brightest = 0;
+  cv::minMaxLoc(samples, nullptr, &brightest);
+  int bits = 0;
+  for (const int candidate : {10, 12}) {
+    if (brightest < (1 << candidate)) {
+      bits = candidate;
+      break;
+    }
+  }
+  if (bits == 0 || brightest == 0) return 0;
+  for (int y = 0; y < samples.rows; ++y) {
+    const uint16_t* row = samples.ptr<uint16_t>(y);
+    for (int x = 0; x < samples.cols; ++x) {
+      if (row[x] % 4 != 0) return bits;
+    }
+  }
+  return 0;  // full-range samples of 12 bits or fewer, dark
+}
+
+void CheckSampleBitsOption(int sample_bits) {
+  UWS_USAGE_CHECK(sample_bits >= 9 && sample_bits <= 16,
+                  "--sample-bits must be 9-16 (16: as stored), got ", sample_bits);
+}
+
+std::string LowSampleBitsWarning(const std::filesystem::path& file, int bits) {
+  return file.string() + ": a 16-bit frame whose samples all fit in " + std::to_string(bits) +
+         " bits: it looks like a " + std::to_string(bits) +
+         "-bit camera's frame saved unpacked, read as 16-bit and " +
+         std::to_string(1 << (16 - bits)) +
+         " times darker than the features' and the clipping's thresholds take it to be; give " +
+         "--sample-bits " + std::to_string(bits);
+}
+
 cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer) {
   if (raw.empty() || raw.channels() != 1 || bayer == "none") return raw;
   // OpenCV names Bayer codes by the second row's pattern start: RGGB is BayerBG.

@@ -34,6 +34,25 @@ constexpr double kMosaicPhaseRatio = 1.25;
 // What to say of such a frame where the camera is taken for a mono one.
 std::string MosaicWarning(const std::filesystem::path& file, double ratio);
 
+// A 10-, 12- or 14-bit camera's frames saved unpacked hold their samples in
+// the low bits of 16-bit pixels, 2^(16 - bits) times darker than the
+// pipeline's thresholds (features, clipping) take 16-bit frames to be; the
+// simulator's 12-bit frames are scaled to the full range. Scales a 16-bit
+// frame's samples up to it (`sample_bits` 9-15; 0 or 16: as stored).
+// Throws uwscan::Error naming `file` for a frame that is not 16-bit or a
+// sample that does not fit `sample_bits`.
+void ScaleLowBitSamples(cv::Mat* image, int sample_bits, const std::filesystem::path& file);
+// The bits a 16-bit frame's samples seem to use when they look like a
+// camera's 10 or 12 in the low bits (the brightest under 2^bits, and not
+// all multiples of 4, as full-range samples of so few bits are); 0 if not.
+// (A 14-bit camera's would be a quarter of full scale: too like a dark
+// 16-bit frame to say.)
+int LowSampleBits(const cv::Mat& image);
+// Throws uwscan::UsageError unless 9-16 (the commands' --sample-bits).
+void CheckSampleBitsOption(int sample_bits);
+// What to say of such a frame read as it is stored.
+std::string LowSampleBitsWarning(const std::filesystem::path& file, int bits);
+
 // The image files of a folder (png, jpg, jpeg, tif, tiff, pgm, ppm, bmp, any
 // case), sorted by name. Throws uwscan::Error naming the folder if it is
 // none or holds no image; for a dataset folder (images in its frames/) the

@@ -323,5 +323,47 @@ TEST(MosaicPhaseRatio, TellsARawMosaicFromAMonoImage) {
   EXPECT_TRUE(std::isnan(MosaicPhaseRatio(cv::Mat(64, 64, CV_8U, cv::Scalar(3)))));
 }
 
+// A 12-bit camera's frame saved unpacked (its samples in the low bits of a
+// 16-bit PNG) is told from full-range frames, and scaled up to the range
+// the simulator's 12-bit frames have.
+TEST(LowSampleBits, TwelveBitSamplesInTheLowBitsAreFoundAndScaledUp) {
+  cv::Mat noise(60, 80, CV_32F);
+  cv::randu(noise, 0.0, 1.0);
+  cv::Mat low;
+  noise.convertTo(low, CV_16U, 4000.0);  // 0..4000: 12 bits
+  const cv::Mat full = low * 16;         // as the simulator writes 12 bits
+  EXPECT_EQ(LowSampleBits(low), 12);
+  EXPECT_EQ(LowSampleBits(low / 4), 10);
+  EXPECT_EQ(LowSampleBits(full), 0);
+  EXPECT_EQ(LowSampleBits(cv::Mat(low * 4)), 0);  // multiples of 4: full-range samples
+  cv::Mat low8;
+  low.convertTo(low8, CV_8U, 1.0 / 16);
+  EXPECT_EQ(LowSampleBits(low8), 0);
+  EXPECT_EQ(LowSampleBits(cv::Mat::zeros(8, 8, CV_16U)), 0);
+
+  cv::Mat scaled = low.clone();
+  ScaleLowBitSamples(&scaled, 12, "f.png");
+  EXPECT_EQ(cv::norm(scaled, full, cv::NORM_INF), 0.0);
+  cv::Mat as_stored = low.clone();
+  ScaleLowBitSamples(&as_stored, 16, "f.png");
+  EXPECT_EQ(cv::norm(as_stored, low, cv::NORM_INF), 0.0);
+  cv::Mat too_wide = low.clone();
+  too_wide.at<uint16_t>(3, 4) = 4096;
+  EXPECT_THROW(
+      {
+        try {
+          ScaleLowBitSamples(&too_wide, 12, "dir/f.png");
+        } catch (const Error& e) {
+          EXPECT_STREQ(e.what(), "dir/f.png: a sample of 4096 does not fit 12 bits (at most 4095)");
+          throw;
+        }
+      },
+      Error);
+  EXPECT_THROW(ScaleLowBitSamples(&low8, 12, "f.png"), Error);  // not 16-bit
+  EXPECT_THROW(CheckSampleBitsOption(8), UsageError);
+  EXPECT_THROW(CheckSampleBitsOption(17), UsageError);
+  EXPECT_NO_THROW(CheckSampleBitsOption(16));
+}
+
 }  // namespace
 }  // namespace uwscan

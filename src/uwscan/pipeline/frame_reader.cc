@@ -3,16 +3,14 @@
 #include <chrono>
 #include <utility>
 
-#include "uwscan/io/image.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
 
-FrameReader::FrameReader(std::filesystem::path dataset, const std::vector<FrameRecord>& frames,
-                         LineStage* line_stage, const fusion::PoseProvider* provider)
-    : dataset_(std::move(dataset)),
-      frames_(frames),
+FrameReader::FrameReader(const std::vector<FrameRecord>& frames, LineStage* line_stage,
+                         const fusion::PoseProvider* provider)
+    : frames_(frames),
       line_stage_(line_stage),
       line_ahead_(!line_stage->NeedsPoses()),
       provider_(provider && provider->PreparesAhead() ? provider : nullptr) {
@@ -70,7 +68,7 @@ void FrameReader::Work() {
 
 ReadFrame FrameReader::Read(size_t i) const {
   ReadFrame frame;
-  frame.image = ReadImage(dataset_ / frames_[i].file);
+  frame.image = line_stage_->ReadFrameImage(i);
   if (line_ahead_) line_stage_->Process(i, frame.image, &frame.detection, &frame.profile);
   if (provider_) {
     frame.prepared = provider_->PrepareAhead({frames_[i].index, frames_[i].timestamp_s, frame.image,

@@ -44,8 +44,9 @@ struct ReadFrame {
 class FrameReader {
  public:
   // `provider` may be null (no preparation ahead).
-  FrameReader(std::filesystem::path dataset, const std::vector<FrameRecord>& frames,
-              LineStage* line_stage, const fusion::PoseProvider* provider);
+  // The images are read by `line_stage` (LineStage::ReadFrameImage).
+  FrameReader(const std::vector<FrameRecord>& frames, LineStage* line_stage,
+              const fusion::PoseProvider* provider);
   ~FrameReader();
   FrameReader(const FrameReader&) = delete;
   FrameReader& operator=(const FrameReader&) = delete;
@@ -63,7 +64,6 @@ class FrameReader {
   };
   void Work();
   ReadFrame Read(size_t i) const;
-  std::filesystem::path dataset_;
   const std::vector<FrameRecord>& frames_;
   LineStage* line_stage_;
   const bool line_ahead_;                 // found on the reading thread

@@ -21,6 +21,7 @@ namespace uwscan {
 namespace fs = std::filesystem;
 
 void LaserDetectJob::Check() const {
+  CheckSampleBitsOption(sample_bits);
   using Options = laser::DetectorOptions;
   UWS_USAGE_CHECK(detector.line_sigma_px > Options::kMinLineSigmaPx &&
                       detector.line_sigma_px < Options::kMaxLineSigmaPx,
@@ -174,7 +175,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       progress.Update(static_cast<long>(i) + 1);
       continue;
     }
-    const cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_UNCHANGED);
+    cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_UNCHANGED);
     if (image.empty()) {
       std::cerr << "uwscan: warning: " << images[i].string()
                 << ": unreadable or truncated image, frame " << frame << " has no detections\n";
@@ -188,13 +189,18 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     }
     UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, images[i].string(),
               ": only 8- and 16-bit images are supported");
+    ScaleLowBitSamples(&image, job.sample_bits, images[i]);
     const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
-    if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1 &&
-        layout == laser::ColourLayout::kMono) {
-      const double ratio = MosaicPhaseRatio(image);
+    if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1) {
+      const double ratio =
+          layout == laser::ColourLayout::kMono ? MosaicPhaseRatio(image) : std::nan("");
       if (ratio > kMosaicPhaseRatio) {
         summary.mosaic_frame = images[i].string();
         summary.mosaic_phase_ratio = ratio;
+      }
+      if (job.sample_bits == 16 && LowSampleBits(image) > 0) {
+        summary.low_bits_frame = images[i].string();
+        summary.low_sample_bits = LowSampleBits(image);
       }
     }
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);

@@ -27,6 +27,7 @@ struct LaserDetectJob {
   std::string channel = "auto";  // red | green | blue | auto (laser wavelength)
   std::string albedo = "auto";   // red | green | blue | none | auto (laser::AlbedoChannelFor)
   laser::DetectorOptions detector;
+  int sample_bits = 16;  // ReconstructJob::sample_bits
   bool quiet = false;
   void Check() const;
 };
@@ -49,6 +50,10 @@ struct LaserDetectSummary {
   // (MosaicPhaseRatio above kMosaicPhaseRatio), and the ratio.
   std::string mosaic_frame;
   double mosaic_phase_ratio = 0.0;
+  // The first frame, if its 16-bit samples look like fewer bits in the low
+  // bits (LowSampleBits) and were read as stored, and those bits.
+  std::string low_bits_frame;
+  int low_sample_bits = 0;
   double seconds = 0.0;
 };
 

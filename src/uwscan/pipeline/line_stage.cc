@@ -55,6 +55,14 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
   if (windowed_) detector_.line_window_px = job.line_window_px;
   report_->line_window_px = windowed_ ? job.line_window_px : 0;
   report_->max_range_error_per_px = job.max_range_error_per_px;
+  report_->sample_bits = job.sample_bits;
+}
+
+cv::Mat LineStage::ReadFrameImage(size_t i) const {
+  const std::filesystem::path file = dataset_ / frames_[i].file;
+  cv::Mat image = ReadImage(file);
+  ScaleLowBitSamples(&image, job_.sample_bits, file);
+  return image;
 }
 
 void LineStage::SetPose(int frame, const Rigid3d& world_from_camera) {
@@ -76,6 +84,11 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     if (ratio > kMosaicPhaseRatio && report_->mosaic_frame.empty()) {
       report_->mosaic_frame = (dataset_ / record.file).string();
       report_->mosaic_phase_ratio = ratio;
+    }
+    const int low_bits = job_.sample_bits == 16 ? LowSampleBits(image) : 0;
+    if (low_bits > 0 && report_->low_bits_frame.empty()) {
+      report_->low_bits_frame = (dataset_ / record.file).string();
+      report_->low_sample_bits = low_bits;
     }
   }
   UWS_CHECK(image.type() == first_image_type_, (dataset_ / record.file).string(), ": a ",
@@ -257,7 +270,7 @@ void LineStage::StartSweepFilter() {
             2.0 * sweep.min_expected_shift_px) {
       continue;
     }
-    const cv::Mat ahead = ReadImage(dataset_ / frames_[k].file);
+    const cv::Mat ahead = ReadFrameImage(k);
     if (ahead.cols != camera_.width || ahead.rows != camera_.height) break;  // reported later
     Detect(ahead, frames_[k]);  // remembered by the filter
     break;

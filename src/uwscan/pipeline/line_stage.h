@@ -46,6 +46,9 @@ class LineStage {
   // near the prior of a scan line this close.
   static constexpr int kPriorNeighbourLines = 32;
 
+  // Frame i's image as the pipeline takes it: read, its samples scaled
+  // (ReconstructJob::sample_bits). Throws uwscan::Error naming the file.
+  cv::Mat ReadFrameImage(size_t i) const;
   // Frame i of the sequence, its image as read: the line and its profile.
   // Throws uwscan::Error (naming the file) if the image has the wrong size,
   // or other channels or bit depth than the first frame's.

@@ -8,10 +8,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "uwscan/io/image.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/testing.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
@@ -202,6 +205,62 @@ TEST(ReconstructMotionFilter, StripesMovingWithTheSceneAreIgnored) {
   EXPECT_GT(without.point_error_rms_m, 0.02);
   EXPECT_LT(with_filter.point_error_rms_m, 0.003);
   EXPECT_GT(filtered.points, kept.points * 9 / 10);
+  fs::remove_all(root);
+}
+
+// A 12-bit camera's frames saved unpacked: the samples in the low bits of
+// 16-bit PNGs, 16 times darker than the simulator's 12-bit frames (scaled to
+// the full range). Read as stored, a warning names the first frame and the
+// option; with --sample-bits 12 the clouds are byte for byte the full-range
+// frames' clouds. The line with the true poses, 320x240 (gain 1: the
+// scene's exposure at this size).
+TEST(ReconstructSampleBits, TwelveBitFramesSavedUnpackedAreScaledUp) {
+  const fs::path root = TempFolder("sample_bits");
+  sim::ScenarioOptions options = ScanOptions(320, 240, 12, 5);
+  options.bits = 12;
+  options.gain = 1.0;
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
+  job.out = root / "full_range";
+  const ReconstructReport full_range = RunReconstruct(job);
+  EXPECT_TRUE(full_range.low_bits_frame.empty());
+  EXPECT_GT(full_range.points, 12 * 50);
+
+  for (const auto& entry : fs::directory_iterator(job.dataset / "frames")) {
+    const cv::Mat stored = ReadImage(entry.path());
+    ASSERT_EQ(stored.depth(), CV_16U);
+    WritePng(entry.path(), stored / 16);
+  }
+  job.out = root / "as_stored";
+  const ReconstructReport as_stored = RunReconstruct(job);
+  EXPECT_EQ(as_stored.low_bits_frame, (job.dataset / "frames/000000.png").string());
+  EXPECT_EQ(as_stored.low_sample_bits, 12);
+  const std::vector<std::string> warnings = as_stored.Warnings();
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+    return w.find("give --sample-bits 12") != std::string::npos;
+  }));
+
+  job.out = root / "scaled";
+  job.sample_bits = 12;
+  const ReconstructReport scaled = RunReconstruct(job);
+  EXPECT_TRUE(scaled.low_bits_frame.empty());
+  EXPECT_EQ(scaled.points, full_range.points);
+  EXPECT_EQ(FileBytes(root / "scaled/cloud.ply"), FileBytes(root / "full_range/cloud.ply"));
+
+  // A sample beyond 12 bits is not a 12-bit camera's: named.
+  cv::Mat frame = ReadImage(job.dataset / "frames/000003.png");
+  frame.at<uint16_t>(7, 9) = 4096;
+  WritePng(job.dataset / "frames/000003.png", frame);
+  job.out = root / "beyond";
+  try {
+    RunReconstruct(job);
+    ADD_FAILURE() << "a 13-bit sample was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("frames/000003.png: a sample of 4096 does not fit 12 bits"),
+        std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(root / "beyond"));
   fs::remove_all(root);
 }
 

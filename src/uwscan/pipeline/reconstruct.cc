@@ -296,7 +296,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
-  FrameReader reader(job.dataset, frames, &line_stage, provider.get());
+  FrameReader reader(frames, &line_stage, provider.get());
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     ReadFrame frame = reader.Get(i);
@@ -352,7 +352,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
                           other.rig.CameraFromLaser(0, 0), other_frames, &report);
     TumWriter other_trajectory(job.out / ("trajectory_" + other_camera.name + ".tum"));
     CameraReport camera_report{other_camera.name, other.rig.lasers.front().name};
-    FrameReader other_reader(other.folder, other_frames, &other_stage, nullptr);
+    FrameReader other_reader(other_frames, &other_stage, nullptr);
     for (size_t i = 0; i < other_frames.size(); ++i) {
       const FrameRecord& record = other_frames[i];
       const ReadFrame frame = other_reader.Get(i);

@@ -87,6 +87,9 @@ struct ReconstructJob {
   // camera's poses through the rig; only without --camera.
   bool other_cameras = true;
   int max_frames = 0;  // 0: all
+  // 16-bit frames holding samples of this many bits in their low bits
+  // (ScaleLowBitSamples; 9-16, 16: as stored).
+  int sample_bits = 16;
   bool quiet = false;
   // Diagnostics on simulated datasets: the odometry's features take their
   // depth from the simulator's true scene (scene.yaml, groundtruth.tum)
@@ -204,6 +207,11 @@ struct ReconstructReport {
   // (empty: none such).
   std::string mosaic_frame;
   double mosaic_phase_ratio = 0.0;
+  // The first frame, if its 16-bit samples look like a camera's fewer bits
+  // in the low bits (LowSampleBits) and were read as stored, and those bits.
+  std::string low_bits_frame;
+  int low_sample_bits = 0;
+  int sample_bits = 16;  // as used (ReconstructJob::sample_bits)
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   // Of seconds_io: waiting for the reading thread's next image (read,

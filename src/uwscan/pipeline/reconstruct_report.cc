@@ -20,6 +20,7 @@ namespace uwscan {
 
 void ReconstructJob::Check() const {
   detector.Check();
+  CheckSampleBitsOption(sample_bits);
   if (max_frames < 0)
     throw UsageError("--max-frames must be >= 0 (0 = all), got " + std::to_string(max_frames));
   UWS_USAGE_CHECK(!out.empty(), "--out: empty output folder name");
@@ -267,6 +268,8 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
   }
+  if (!low_bits_frame.empty())
+    warnings.push_back(LowSampleBitsWarning(low_bits_frame, low_sample_bits));
   if (!mosaic_frame.empty()) {
     warnings.push_back(MosaicWarning(mosaic_frame, mosaic_phase_ratio) +
                        "; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml");
@@ -431,6 +434,9 @@ nlohmann::json ReconstructReport::ToJson() const {
           {"frames_with_clipped_scene", frames_with_clipped_scene},
           {"clipped_scene_share", ClippedSceneShare()},
           {"frames_with_clipped_features", frames_with_clipped_features},
+          {"low_sample_bits",
+           low_bits_frame.empty() ? nlohmann::json() : nlohmann::json(low_sample_bits)},
+          {"sample_bits", sample_bits},
           {"mosaic_phase_ratio",
            mosaic_frame.empty() ? nlohmann::json() : nlohmann::json(mosaic_phase_ratio)},
           {"clipped_features_share", ClippedFeaturesShare()},

@@ -46,6 +46,7 @@ long CurrentRssKb() { return ProcStatusKb("VmRSS:"); }
 long PeakRssKb() { return ProcStatusKb("VmHWM:"); }
 
 void VoJob::Check() const {
+  CheckSampleBitsOption(sample_bits);
   if (model != "flatport" && model != "pinhole") {
     throw UsageError("--model must be flatport or pinhole, not '" + model + "'");
   }
@@ -166,16 +167,19 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   };
   for (int i = 0; i < total; ++i) {
     const FrameRecord& entry = dataset.frames[size_t(i)];
-    const cv::Mat raw = ReadFrameImage(dataset, entry);
+    cv::Mat raw = ReadFrameImage(dataset, entry);
+    ScaleLowBitSamples(&raw, job.sample_bits, dataset.dir / entry.file);
     if (raw.empty()) {
       ++summary.unreadable;
       warn("frame " + std::to_string(entry.index) + ": cannot read " + entry.file);
-    } else if (summary.unreadable == i && rig_camera.bayer == "none") {  // the first frame read
-      const double ratio = MosaicPhaseRatio(raw);
+    } else if (summary.unreadable == i) {  // the first frame read
+      const double ratio = rig_camera.bayer == "none" ? MosaicPhaseRatio(raw) : std::nan("");
       if (ratio > kMosaicPhaseRatio) {
         warn(MosaicWarning(dataset.dir / entry.file, ratio) +
              "; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml");
       }
+      const int low_bits = job.sample_bits == 16 ? LowSampleBits(raw) : 0;
+      if (low_bits > 0) warn(LowSampleBitsWarning(dataset.dir / entry.file, low_bits));
     }
     cv::Mat mask;
     if (job.mask_laser && !raw.empty() && raw.cols == rig_camera.width &&

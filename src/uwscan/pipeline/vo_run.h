@@ -26,6 +26,7 @@ struct VoJob {
   bool mask_laser = false;
   double mask_margin_px = 6.0;  // dilation of the detector's mask (KLT window support)
   int max_frames = 0;           // 0: all
+  int sample_bits = 16;         // ReconstructJob::sample_bits
   // Frames wider than this are tracked at half (quarter, ...) resolution:
   // a raw Bayer frame through the passive colour's own samples (no
   // demosaicking), as the self-referenced scan does. 0: full resolution.
