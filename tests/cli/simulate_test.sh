@@ -119,6 +119,60 @@ expect_status 1 "reconstruct, a colour frame among raw ones" "$uwscan" reconstru
 grep -q "mixed/frames/000001.png: a 3-channel 8-bit image, but the frames before are 1-channel 8-bit (.*mixed/frames/000000.png)" \
   "$work/err" || fail "a colour frame among raw ones: $(cat "$work/err")"
 [ ! -e "$work/mixed.out" ] || fail "a colour frame among raw ones: output left"
+# Colour frames exported as RGBA (an alpha channel): read as the colour frames they are, the same
+# cloud byte for byte; they used to fail with "images must have 1 or 3 channels, not 4", unnamed.
+expect_status 0 "rgb frames" "$uwscan" simulate tank-target --out "$work/rgb3" --frames 3 \
+  --width 160 --height 120 --seed 7 --output rgb --quiet
+cp -r "$work/rgb3" "$work/rgba3"
+python3 - "$work/rgba3/frames" <<'PY' || fail "write RGBA frames"
+import os, struct, sys, zlib
+def chunks(data):
+    pos = 8
+    while pos < len(data):
+        n, = struct.unpack(">I", data[pos:pos + 4])
+        yield data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
+        pos += 12 + n
+def unfilter(raw, width, bpp):
+    rows, prev, stride, pos = [], bytearray(width * bpp), width * bpp, 0
+    while pos < len(raw):
+        kind, line = raw[pos], bytearray(raw[pos + 1:pos + 1 + stride])
+        pos += 1 + stride
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
+            b, c = prev[i], prev[i - bpp] if i >= bpp else 0
+            if kind == 1: line[i] = (line[i] + a) & 255
+            elif kind == 2: line[i] = (line[i] + b) & 255
+            elif kind == 3: line[i] = (line[i] + (a + b) // 2) & 255
+            elif kind == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(line)
+        prev = line
+    return rows
+def chunk(kind, body):
+    return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+for name in os.listdir(sys.argv[1]):
+    path = os.path.join(sys.argv[1], name)
+    data = open(path, "rb").read()
+    parts = list(chunks(data))
+    width, height, depth, colour = struct.unpack(">IIBB", parts[0][1][:10])
+    assert depth == 8 and colour == 2, (depth, colour)
+    rows = unfilter(zlib.decompress(b"".join(b for k, b in parts if k == b"IDAT")), width, 3)
+    rgba = b"".join(b"\0" + bytes(v for i in range(width) for v in (*row[3 * i:3 * i + 3], 255))
+                    for row in rows)
+    header = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) +
+                           chunk(b"IDAT", zlib.compress(rgba)) + chunk(b"IEND", b""))
+PY
+expect_status 0 "reconstruct rgb frames" "$uwscan" reconstruct --dataset "$work/rgb3" \
+  --out "$work/rgb3.out" --poses "$work/rgb3/groundtruth.tum" --quiet
+expect_status 0 "reconstruct rgba frames" "$uwscan" reconstruct --dataset "$work/rgba3" \
+  --out "$work/rgba3.out" --poses "$work/rgba3/groundtruth.tum" --quiet
+cmp -s "$work/rgb3.out/cloud.ply" "$work/rgba3.out/cloud.ply" || fail "rgba frames: another cloud"
+expect_status 0 "laser detect rgba frames" "$uwscan" laser detect --dataset "$work/rgba3" \
+  --out "$work/rgba3.csv" --quiet
+
 # Raw Bayer frames with a rig that says bayer: none (a mono camera): a warning names the first
 # frame and says what to set; report.json has the phases' ratio (null for the right rig).
 cp -r "$work/ds" "$work/asmono" && sed -i 's/bayer: rggb/bayer: none/' "$work/asmono/rig.yaml"

@@ -102,6 +102,14 @@ void ScaleLowBitSamples(cv::Mat* image, int sample_bits, const std::filesystem::
   *image *= double(1 << (16 - sample_bits));
 }
 
+void PrepareFrame(cv::Mat* image, int sample_bits, const std::filesystem::path& file) {
+  if (image->channels() == 4) cv::cvtColor(*image, *image, cv::COLOR_BGRA2BGR);
+  UWS_CHECK(image->empty() || image->channels() == 1 || image->channels() == 3, file.string(),
+            ": a ", ImageTypeName(image->type()),
+            " image: frames are grey or raw Bayer (1 channel) or colour (3, or 4 with alpha)");
+  ScaleLowBitSamples(image, sample_bits, file);
+}
+
 int LowSampleBits(const cv::Mat& image) {
   if (image.empty() || image.depth() != CV_16U) return 0;
   const cv::Mat samples = image.reshape(1);

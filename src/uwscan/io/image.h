@@ -48,6 +48,11 @@ void ScaleLowBitSamples(cv::Mat* image, int sample_bits, const std::filesystem::
 // (A 14-bit camera's would be a quarter of full scale: too like a dark
 // 16-bit frame to say.)
 int LowSampleBits(const cv::Mat& image);
+// A camera frame as read, made what the pipeline takes: an alpha channel
+// (PNGs exported as RGBA) dropped, low-bit samples scaled up
+// (ScaleLowBitSamples). Throws uwscan::Error naming `file` for another
+// number of channels than 1 or 3 (after the alpha).
+void PrepareFrame(cv::Mat* image, int sample_bits, const std::filesystem::path& file);
 // Throws uwscan::UsageError unless 9-16 (the commands' --sample-bits).
 void CheckSampleBitsOption(int sample_bits);
 // What to say of such a frame read as it is stored.

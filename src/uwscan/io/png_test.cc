@@ -365,5 +365,23 @@ TEST(LowSampleBits, TwelveBitSamplesInTheLowBitsAreFoundAndScaledUp) {
   EXPECT_NO_THROW(CheckSampleBitsOption(16));
 }
 
+// Frames exported as RGBA PNGs lose their alpha channel; other channel
+// counts are refused by file.
+TEST(PrepareFrame, DropsAnAlphaChannelAndNamesOtherLayouts) {
+  cv::Mat bgr(8, 10, CV_8UC3, cv::Scalar(10, 20, 30)), bgra;
+  cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);
+  PrepareFrame(&bgra, 16, "f.png");
+  ASSERT_EQ(bgra.type(), CV_8UC3);
+  EXPECT_EQ(cv::norm(bgra, bgr, cv::NORM_INF), 0.0);
+  cv::Mat two(8, 10, CV_8UC2, cv::Scalar(1, 2));
+  try {
+    PrepareFrame(&two, 16, "dir/f.png");
+    ADD_FAILURE() << "a 2-channel frame was taken";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("dir/f.png: a 2-channel 8-bit image: frames are", 0), 0u)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace uwscan

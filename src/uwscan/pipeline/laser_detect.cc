@@ -189,7 +189,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     }
     UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, images[i].string(),
               ": only 8- and 16-bit images are supported");
-    ScaleLowBitSamples(&image, job.sample_bits, images[i]);
+    PrepareFrame(&image, job.sample_bits, images[i]);
     const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
     if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1) {
       const double ratio =
@@ -198,9 +198,10 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
         summary.mosaic_frame = images[i].string();
         summary.mosaic_phase_ratio = ratio;
       }
-      if (job.sample_bits == 16 && LowSampleBits(image) > 0) {
+      const int low_bits = job.sample_bits == 16 ? LowSampleBits(image) : 0;
+      if (low_bits > 0) {
         summary.low_bits_frame = images[i].string();
-        summary.low_sample_bits = LowSampleBits(image);
+        summary.low_sample_bits = low_bits;
       }
     }
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);

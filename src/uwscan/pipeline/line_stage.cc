@@ -59,10 +59,24 @@ LineStage::LineStage(const ReconstructJob& job, fs::path dataset, const Camera& 
 }
 
 cv::Mat LineStage::ReadFrameImage(size_t i) const {
-  const std::filesystem::path file = dataset_ / frames_[i].file;
+  const fs::path file = dataset_ / frames_[i].file;
   cv::Mat image = ReadImage(file);
-  ScaleLowBitSamples(&image, job_.sample_bits, file);
+  PrepareFrame(&image, job_.sample_bits, file);
   return image;
+}
+
+void LineStage::InspectFirstFrame(const cv::Mat& image, const fs::path& file) {
+  first_image_type_ = image.type();
+  const double ratio = camera_.bayer == "none" ? MosaicPhaseRatio(image) : std::nan("");
+  if (ratio > kMosaicPhaseRatio && report_->mosaic_frame.empty()) {
+    report_->mosaic_frame = file.string();
+    report_->mosaic_phase_ratio = ratio;
+  }
+  const int low_bits = job_.sample_bits == 16 ? LowSampleBits(image) : 0;
+  if (low_bits > 0 && report_->low_bits_frame.empty()) {
+    report_->low_bits_frame = file.string();
+    report_->low_sample_bits = low_bits;
+  }
 }
 
 void LineStage::SetPose(int frame, const Rigid3d& world_from_camera) {
@@ -75,22 +89,10 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
   UWS_CHECK(image.cols == camera_.width && image.rows == camera_.height,
             (dataset_ / record.file).string(), ": image is ", image.cols, "x", image.rows,
             " but camera '", camera_.name, "' is ", camera_.width, "x", camera_.height);
+  if (first_image_type_ < 0) InspectFirstFrame(image, dataset_ / record.file);
   // One colour frame among raw Bayer ones (or a 16-bit one among 8-bit
   // ones) is another camera's or another export's: its colours and levels
   // would be read as the others'.
-  if (first_image_type_ < 0) {
-    first_image_type_ = image.type();
-    const double ratio = camera_.bayer == "none" ? MosaicPhaseRatio(image) : std::nan("");
-    if (ratio > kMosaicPhaseRatio && report_->mosaic_frame.empty()) {
-      report_->mosaic_frame = (dataset_ / record.file).string();
-      report_->mosaic_phase_ratio = ratio;
-    }
-    const int low_bits = job_.sample_bits == 16 ? LowSampleBits(image) : 0;
-    if (low_bits > 0 && report_->low_bits_frame.empty()) {
-      report_->low_bits_frame = (dataset_ / record.file).string();
-      report_->low_sample_bits = low_bits;
-    }
-  }
   UWS_CHECK(image.type() == first_image_type_, (dataset_ / record.file).string(), ": a ",
             ImageTypeName(image.type()), " image, but the frames before are ",
             ImageTypeName(first_image_type_), " (", (dataset_ / frames_.front().file).string(),

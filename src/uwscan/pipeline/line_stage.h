@@ -46,8 +46,8 @@ class LineStage {
   // near the prior of a scan line this close.
   static constexpr int kPriorNeighbourLines = 32;
 
-  // Frame i's image as the pipeline takes it: read, its samples scaled
-  // (ReconstructJob::sample_bits). Throws uwscan::Error naming the file.
+  // Frame i's image as the pipeline takes it (PrepareFrame with
+  // ReconstructJob::sample_bits). Throws uwscan::Error naming the file.
   cv::Mat ReadFrameImage(size_t i) const;
   // Frame i of the sequence, its image as read: the line and its profile.
   // Throws uwscan::Error (naming the file) if the image has the wrong size,
@@ -63,6 +63,10 @@ class LineStage {
   // A detected point's scan line and position along it.
   std::pair<int, float> OnScanLine(const laser::LaserPoint& p) const;
   void StartSweepFilter();
+  // The first frame: its type, which every frame must have, and whether it
+  // looks like a raw mosaic read as mono, or like samples in the low bits
+  // (ReconstructReport::mosaic_frame, low_bits_frame).
+  void InspectFirstFrame(const cv::Mat& image, const std::filesystem::path& file);
 
   const ReconstructJob& job_;
   std::filesystem::path dataset_;

@@ -168,7 +168,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   for (int i = 0; i < total; ++i) {
     const FrameRecord& entry = dataset.frames[size_t(i)];
     cv::Mat raw = ReadFrameImage(dataset, entry);
-    ScaleLowBitSamples(&raw, job.sample_bits, dataset.dir / entry.file);
+    PrepareFrame(&raw, job.sample_bits, dataset.dir / entry.file);
     if (raw.empty()) {
       ++summary.unreadable;
       warn("frame " + std::to_string(entry.index) + ": cannot read " + entry.file);
