@@ -169,8 +169,9 @@ LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelin
       continue;
     }
     const std::filesystem::path file = options.images / view.name;
-    const cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+    cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
     UWS_CHECK(!image.empty(), file.string(), ": cannot read the image");
+    PrepareFrame(&image, 16, file);  // an alpha channel dropped
     LaserView laser_view;
     laser_view.name = view.name;
     laser_view.camera_from_board = pose->camera_from_board;

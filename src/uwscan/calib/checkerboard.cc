@@ -171,6 +171,7 @@ FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const 
   for (const fs::path& file : files) {
     cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
     UWS_CHECK(!image.empty(), file.string(), ": cannot read the image");
+    PrepareFrame(&image, 16, file);  // an alpha channel dropped
     image = DemosaicToBgr(image, bayer);
     if (result.set.width == 0) {
       result.set.width = image.cols;

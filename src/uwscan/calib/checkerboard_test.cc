@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "uwscan/calib/board_render.h"
 #include "uwscan/calib/camera_calibration.h"
@@ -154,6 +155,23 @@ TEST(Checkerboard, FolderErrors) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("same size"), std::string::npos) << e.what();
   }
+  std::filesystem::remove_all(folder);
+}
+
+// Board images exported as RGBA PNGs (an alpha channel) are found as the
+// colour images they are; OpenCV's detector refuses four channels.
+TEST(Checkerboard, RgbaImagesInAFolder) {
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("uwscan_rgba_" + std::to_string(getpid()));
+  std::filesystem::create_directories(folder);
+  std::vector<Eigen::Vector2d> truth;
+  const cv::Mat image = RenderBoard(kBoard, FrontalPose(0.45), BoardRenderOptions(), &truth);
+  cv::Mat rgba;
+  cv::cvtColor(image, rgba, image.channels() == 1 ? cv::COLOR_GRAY2BGRA : cv::COLOR_BGR2BGRA);
+  ASSERT_TRUE(cv::imwrite((folder / "a.png").string(), rgba));
+  const FolderDetection detected = DetectBoardsInFolder(folder, kBoard, DetectionOptions());
+  ASSERT_EQ(detected.set.views.size(), 1u);
+  EXPECT_LT(MatchedRms(detected.set.views.front().corners, truth), 0.1);
   std::filesystem::remove_all(folder);
 }
 
