@@ -85,6 +85,20 @@ TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
   EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,0.5deg\n")
                 .find("frames.csv:2: index, timestamp_s and laser_angle_rad must be numbers"),
             std::string::npos);
+  // Timestamps in another unit (a 144 Hz camera's, exported in nanoseconds
+  // or microseconds): refused with the unit they look like.
+  EXPECT_NE(
+      message("index,timestamp_s,file\n0,0,a.png\n1,6944444,b.png\n2,13888889,c.png\n")
+          .find("frames.csv: timestamp_s steps by 6.94444e+06 s from frame to frame (median): "
+                "it is in seconds, and these look like nanoseconds (divide by 1e9)"),
+      std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file\n0,0,a.png\n1,6944,b.png\n")
+                .find("look like microseconds (divide by 1e6)"),
+            std::string::npos);
+  // Epoch seconds, and a still camera's frames a minute apart, are seconds.
+  EXPECT_EQ(message("index,timestamp_s,file\n0,1700000000.000,a.png\n1,1700000000.007,b.png\n"),
+            "no error");
+  EXPECT_EQ(message("index,timestamp_s,file\n0,0,a.png\n1,60,b.png\n"), "no error");
 }
 
 // A 144 Hz sequence with the timestamps' jitter of a real recorder
