@@ -173,6 +173,20 @@ cmp -s "$work/rgb3.out/cloud.ply" "$work/rgba3.out/cloud.ply" || fail "rgba fram
 expect_status 0 "laser detect rgba frames" "$uwscan" laser detect --dataset "$work/rgba3" \
   --out "$work/rgba3.csv" --quiet
 
+# A --poses trajectory with a gap (as `uwscan vo` marks lost tracking): the frame inside it gets no
+# pose (it was interpolated across); one in nanoseconds is refused with the unit it looks like.
+awk 'NR == 1 { print; print "# gap 0.003 0.010 lost"; next } !/^#/ && $1 > 0.003 && $1 < 0.010 { next }
+  { print }' "$work/ds/groundtruth.tum" >"$work/gap.tum"
+expect_status 0 "reconstruct --poses with a gap" "$uwscan" reconstruct --dataset "$work/ds" \
+  --out "$work/gap.out" --poses "$work/gap.tum" --quiet
+grep -q '"frames_without_pose": 1,' "$work/gap.out/report.json" ||
+  fail "a pose inside the trajectory's gap: $(grep frames_without_pose "$work/gap.out/report.json")"
+awk '!/^#/ { $1 = sprintf("%.0f", $1 * 1e9) } { print }' "$work/ds/groundtruth.tum" >"$work/ns.tum"
+expect_status 1 "reconstruct --poses in nanoseconds" "$uwscan" reconstruct --dataset "$work/ds" \
+  --out "$work/ns.out" --poses "$work/ns.tum" --quiet
+grep -q "ns.tum: timestamps step by .* these look like nanoseconds (divide by 1e9)" "$work/err" ||
+  fail "--poses in nanoseconds: $(cat "$work/err")"
+
 # Raw Bayer frames with a rig that says bayer: none (a mono camera): a warning names the first
 # frame and says what to set; report.json has the phases' ratio (null for the right rig).
 cp -r "$work/ds" "$work/asmono" && sed -i 's/bayer: rggb/bayer: none/' "$work/asmono/rig.yaml"

@@ -46,8 +46,12 @@ std::optional<PoseChange> RmsPoseChange(const std::vector<std::optional<Rigid3d>
 }
 
 TrajectoryPoseProvider::TrajectoryPoseProvider(std::vector<StampedPose> poses, std::string name,
-                                               double max_extrapolation_s)
-    : poses_(std::move(poses)), name_(std::move(name)), max_extrapolation_s_(max_extrapolation_s) {
+                                               double max_extrapolation_s,
+                                               std::vector<std::pair<double, double>> gaps)
+    : poses_(std::move(poses)),
+      name_(std::move(name)),
+      max_extrapolation_s_(max_extrapolation_s),
+      gaps_(std::move(gaps)) {
   UWS_CHECK(!poses_.empty(), name_, ": the trajectory has no poses");
   std::stable_sort(poses_.begin(), poses_.end(), [](const StampedPose& a, const StampedPose& b) {
     return a.timestamp_s < b.timestamp_s;
@@ -55,6 +59,9 @@ TrajectoryPoseProvider::TrajectoryPoseProvider(std::vector<StampedPose> poses, s
 }
 
 std::vector<PoseUpdate> TrajectoryPoseProvider::Add(const FrameInput& frame) {
+  for (const auto& [begin, end] : gaps_) {
+    if (frame.timestamp_s > begin && frame.timestamp_s < end) return {};
+  }
   const auto pose = InterpolatePose(poses_, frame.timestamp_s, max_extrapolation_s_);
   if (!pose) return {};
   return {{frame.index, *pose}};

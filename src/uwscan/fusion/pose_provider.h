@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uwscan/io/tum.h"
@@ -68,11 +69,14 @@ class PoseProvider {
 // Poses from a TUM trajectory, interpolated at the frame's timestamp
 // (linear in translation, slerp in rotation), as an INS at 50 Hz would be
 // used with a 144 Hz camera. Frames outside the trajectory's time span by
-// more than `max_extrapolation_s` get no pose.
+// more than `max_extrapolation_s`, or inside one of its gaps (begin, end:
+// uwscan's `# gap` comments, where the odometry that wrote it had no pose),
+// get no pose.
 class TrajectoryPoseProvider : public PoseProvider {
  public:
   TrajectoryPoseProvider(std::vector<StampedPose> poses, std::string name,
-                         double max_extrapolation_s = 0.05);
+                         double max_extrapolation_s = 0.05,
+                         std::vector<std::pair<double, double>> gaps = {});
   std::vector<PoseUpdate> Add(const FrameInput& frame) override;
   std::string Name() const override { return name_; }
 
@@ -80,6 +84,7 @@ class TrajectoryPoseProvider : public PoseProvider {
   std::vector<StampedPose> poses_;
   std::string name_;
   double max_extrapolation_s_;
+  std::vector<std::pair<double, double>> gaps_;
 };
 
 // Interpolation used by TrajectoryPoseProvider (exposed for tests).

@@ -22,6 +22,26 @@ TEST(PoseProvider, InterpolatesBetweenPoses) {
   EXPECT_FALSE(InterpolatePose({}, 0.0, 0.05).has_value());
 }
 
+// A trajectory with a gap (uwscan vo's `# gap` comments: tracking lost)
+// places no frame inside it; the frames around it get their poses.
+TEST(PoseProvider, NoPoseInsideATrajectorysGap) {
+  const Rigid3d a(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 0));
+  const Rigid3d b(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 0, 0));
+  TrajectoryPoseProvider provider({{0.0, a}, {0.1, a}, {1.0, b}, {1.1, b}}, "vo.tum", 0.05,
+                                  {{0.1, 1.0}});
+  const auto at = [&](double t) {
+    FrameInput frame;
+    frame.index = static_cast<int>(std::lround(t * 100));
+    frame.timestamp_s = t;
+    return provider.Add(frame);
+  };
+  EXPECT_EQ(at(0.05).size(), 1u);
+  EXPECT_TRUE(at(0.5).empty());  // inside the gap: once interpolated between 0.1 and 1.0
+  EXPECT_EQ(at(1.0).size(), 1u);
+  ASSERT_EQ(at(1.05).size(), 1u);
+  EXPECT_EQ(at(1.05).front().world_from_camera.translation.x(), 1.0);
+}
+
 // The rms change of the poses two estimates share, in the camera's frame:
 // a pose turned about its own centre moves 0 m; a pose moved 3 mm in one
 // of two frames moves sqrt(3^2 / 2) mm rms; frames one estimate lacks

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "uwscan/io/timestamps.h"
 #include "uwscan/util/csv.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/statistics.h"
@@ -109,21 +110,11 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
               ")");
     records.push_back(record);
   }
-  // timestamp_s is in seconds. A camera or bag exporter's nanoseconds or
-  // microseconds would pass every check above and make a 14 s scan last
-  // years: frames hours apart are no scan.
-  if (records.size() >= 2) {
-    std::vector<double> steps;
-    for (size_t i = 1; i < records.size(); ++i)
-      steps.push_back(records[i].timestamp_s - records[i - 1].timestamp_s);
-    const double step = Median(steps);
-    UWS_CHECK(step <= kMaxMedianFrameStepS, path.string(), ": timestamp_s steps by ",
-              fmt::format("{:.6g}", step), " s from frame to frame (median): it is in seconds",
-              step > 1e6   ? ", and these look like nanoseconds (divide by 1e9)"
-              : step > 1e3 ? ", and these look like microseconds (divide by 1e6)"
-                           : "",
-              "; frames more than ", kMaxMedianFrameStepS, " s apart are no scan");
-  }
+  // A camera's or a bag exporter's nanoseconds would pass every check above
+  // and make a 14 s scan last years.
+  std::vector<double> times;
+  for (const FrameRecord& record : records) times.push_back(record.timestamp_s);
+  CheckTimestampsInSeconds(times, path.string() + ": timestamp_s");
   return records;
 }
 

@@ -26,10 +26,6 @@ struct FrameRecord {
 // File name of frame `index` inside the dataset: frames/000123.png.
 std::string FrameFileName(int index);
 
-// The median step between frames.csv's timestamps above which it is refused
-// (its timestamps in another unit than seconds).
-constexpr double kMaxMedianFrameStepS = 600.0;
-
 std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path);
 
 // Mean time between frames (s); 0 for fewer than two frames.

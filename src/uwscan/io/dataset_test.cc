@@ -89,8 +89,8 @@ TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
   // or microseconds): refused with the unit they look like.
   EXPECT_NE(
       message("index,timestamp_s,file\n0,0,a.png\n1,6944444,b.png\n2,13888889,c.png\n")
-          .find("frames.csv: timestamp_s steps by 6.94444e+06 s from frame to frame (median): "
-                "it is in seconds, and these look like nanoseconds (divide by 1e9)"),
+          .find("frames.csv: timestamp_s: timestamps step by 6.94444e+06 s from one to the next "
+                "(median): they are in seconds, and these look like nanoseconds (divide by 1e9)"),
       std::string::npos);
   EXPECT_NE(message("index,timestamp_s,file\n0,0,a.png\n1,6944,b.png\n")
                 .find("look like microseconds (divide by 1e6)"),

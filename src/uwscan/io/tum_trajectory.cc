@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "uwscan/io/timestamps.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 
@@ -46,15 +47,18 @@ TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& sou
               trajectory.poses.back().timestamp_s, ")");
     trajectory.poses.push_back({v[0], Rigid3d(q, Eigen::Vector3d(v[1], v[2], v[3]))});
   }
+  std::vector<double> times;
+  for (const StampedPose& pose : trajectory.poses) times.push_back(pose.timestamp_s);
+  CheckTimestampsInSeconds(times, source);
   return trajectory;
 }
 
-TumTrajectory ReadTumTrajectory(const std::filesystem::path& path) {
+TumTrajectory ReadTumTrajectory(const std::filesystem::path& path, double unit_tolerance) {
   std::ifstream in(path);
   UWS_CHECK(in, path.string(), ": cannot open trajectory");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  return ParseTumTrajectory(buffer.str(), path.string());
+  return ParseTumTrajectory(buffer.str(), path.string(), unit_tolerance);
 }
 
 std::string TumTrajectoryToText(const TumTrajectory& trajectory) {

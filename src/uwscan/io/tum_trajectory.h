@@ -24,8 +24,8 @@ struct TumTrajectory {
 };
 
 // Throws uwscan::Error naming the file and line on malformed input.
-TumTrajectory ReadTumTrajectory(const std::filesystem::path& path);
 // Quaternions must be unit to `unit_tolerance` (ReadTum: 1e-6).
+TumTrajectory ReadTumTrajectory(const std::filesystem::path& path, double unit_tolerance = 1e-3);
 TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& source,
                                  double unit_tolerance = 1e-3);
 std::string TumTrajectoryToText(const TumTrajectory& trajectory);

@@ -47,6 +47,24 @@ TEST(TumTrajectory, ErrorsNameTheLine) {
 
 // Out of order (two rows swapped, a repeated time): refused by both
 // readers, with the line, rather than interpolated between wrong neighbours.
+// A TUM file written in nanoseconds (an INS log, a bag's export): its
+// poses 20 ms apart read as 2e7 s apart, and a scan 0.2 s long fell
+// between two of them, every frame placed with the first pose. Refused.
+TEST(TumTrajectory, TimestampsInNanosecondsAreRefused) {
+  try {
+    ParseTumTrajectory("0 0 0 0 0 0 0 1\n20000000 0 0 0 0 0 0 1\n40000000 0 0 0 0 0 0 1\n",
+                       "ins.tum");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(),
+                 "ins.tum: timestamps step by 2e+07 s from one to the next (median): they are in "
+                 "seconds, and these look like nanoseconds (divide by 1e9); more than 600 s apart "
+                 "they are no scan");
+  }
+  EXPECT_NO_THROW(
+      ParseTumTrajectory("1700000000.00 0 0 0 0 0 0 1\n1700000000.02 0 0 0 0 0 0 1\n", "x"));
+}
+
 TEST(TumTrajectory, TimestampsMustIncrease) {
   const std::string swapped = "# t x y z qx qy qz qw\n0.5 0 0 0 0 0 0 1\n0.25 0 0 0 0 0 0 1\n";
   try {

@@ -13,6 +13,7 @@
 #include "uwscan/io/ply.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/io/tum.h"
+#include "uwscan/io/tum_trajectory.h"
 #include "uwscan/laser/profile.h"
 #include "uwscan/pipeline/frame_reader.h"
 #include "uwscan/pipeline/line_stage.h"
@@ -107,7 +108,11 @@ std::shared_ptr<const fusion::SimulatorTruth> LoadSimulatorTruth(const fs::path&
 // camera's clock and moved from the body it logs (an INS's) to the camera;
 // the name says how it was read.
 std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job) {
-  std::vector<StampedPose> poses = ReadTum(*job.poses_file);
+  TumTrajectory trajectory = ReadTumTrajectory(*job.poses_file, 1e-6);
+  std::vector<StampedPose>& poses = trajectory.poses;
+  std::vector<std::pair<double, double>> gaps;  // no pose is interpolated across one
+  for (const TrajectoryGap& gap : trajectory.gaps)
+    gaps.emplace_back(gap.begin_s + job.poses_time_offset_s, gap.end_s + job.poses_time_offset_s);
   std::string name = job.poses_file->string();
   if (job.poses_time_offset_s != 0.0 || job.poses_body_from_camera) {
     for (StampedPose& pose : poses) {
@@ -122,7 +127,8 @@ std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job) {
       how += std::string(how.empty() ? "" : "; ") + "the camera in its body's frame";
     name += " (" + how + ")";
   }
-  return std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name);
+  return std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name, 0.05,
+                                                          std::move(gaps));
 }
 
 // report.json of a run into job.out.
