@@ -102,6 +102,14 @@ Rig ParseRigYaml(const std::string& text, const std::string& source) {
   }
   UWS_CHECK(root.IsDefined() && !root.IsNull(), source, ": empty rig file");
   StrictMap map(root, "", source);
+  // An OpenCV calibration (cv::FileStorage, calibrate.py, ROS camera_info)
+  // is the file a user most likely has: say what it is and what to do.
+  UWS_CHECK(
+      map.Has("format") || !(map.Has("camera_matrix") || map.Has("K")), source,
+      ": an OpenCV or ROS calibration (camera_matrix), not a uwscan rig; a rig (format: ", kFormat,
+      ") also has the flat port and the laser: make one with `uwscan calibrate`, "
+      "or write it by hand with this file's fx, fy, cx, cy and distortion "
+      "(architecture.md, rig.yaml)");
   const std::string format = map.String("format");
   UWS_CHECK(format == kFormat, source, ": 'format' must be ", kFormat, " (got '", format, "')");
   Rig rig;

@@ -111,6 +111,11 @@ TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
       {Edit("name: cam0", "name: \"\""), "cameras[0]: name must be a plain file name"},
       {Edit("name: laser0", "name: ../x"), "lasers[0]: name must be a plain file name"},
       {Edit("cx: 640.0", "cx: 640000.0"), "the principal point (cx 640000, cy 480) is far outside"},
+      // OpenCV's cv::FileStorage calibration, as its calibration sample writes it.
+      {"%YAML:1.0\n---\nimage_width: 320\nimage_height: 240\ncamera_matrix: !!opencv-matrix\n"
+       "   rows: 3\n   cols: 3\n   dt: d\n   data: [ 195.6, 0., 162., 0., 195.6, 121.2, 0., 0., 1. "
+       "]\n",
+       "an OpenCV or ROS calibration (camera_matrix), not a uwscan rig"},
   };
   for (const auto& c : cases) {
     const std::string message = ErrorOf(c.text);
