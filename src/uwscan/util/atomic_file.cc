@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
+
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -10,7 +13,16 @@ AtomicFile::AtomicFile(std::filesystem::path path, bool binary) : path_(std::mov
   temp_path_ = path_;
   temp_path_ += ".tmp-" + std::to_string(::getpid());
   out_.open(temp_path_, binary ? std::ios::out | std::ios::binary : std::ios::out);
-  UWS_CHECK(out_.good(), path_.string(), ": cannot open for writing");
+  if (!out_.good()) {
+    const int error = errno;
+    // Say why: most often the folder was mistyped or not made yet.
+    const std::filesystem::path folder = path_.parent_path().empty() ? "." : path_.parent_path();
+    std::error_code ignored;
+    UWS_CHECK(std::filesystem::is_directory(folder, ignored), path_.string(),
+              ": cannot write: the folder ", folder.string(),
+              std::filesystem::exists(folder, ignored) ? " is not a folder" : " does not exist");
+    UWS_THROW(path_.string(), ": cannot open for writing: ", std::strerror(error));
+  }
 }
 
 AtomicFile::~AtomicFile() {

@@ -41,6 +41,26 @@ TEST_F(AtomicOutputTest, AFileAppearsOnlyOnCommit) {
   EXPECT_EQ(line, "whole");
 }
 
+// A file whose folder is not there says so (it said "cannot open for
+// writing", which left the user to guess).
+TEST_F(AtomicOutputTest, AMissingFolderIsNamed) {
+  const auto message = [](const fs::path& path) {
+    try {
+      AtomicFile file(path);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(root_ / "nodir/e.json"), (root_ / "nodir/e.json").string() +
+                                                 ": cannot write: the folder " +
+                                                 (root_ / "nodir").string() + " does not exist");
+  WriteFileAtomic(root_ / "file", "x");
+  EXPECT_EQ(message(root_ / "file/e.json"), (root_ / "file/e.json").string() +
+                                                ": cannot write: the folder " +
+                                                (root_ / "file").string() + " is not a folder");
+}
+
 TEST_F(AtomicOutputTest, AFailedJobLeavesNoFolderItMade) {
   const fs::path out = root_ / "new" / "deeper";
   {
