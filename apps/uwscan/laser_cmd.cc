@@ -70,6 +70,11 @@ void RegisterLaserCommands(CLI::App& app) {
     if (!profiles->empty()) job->profiles_csv = *profiles;
     if (!overlay->empty()) job->overlay_dir = *overlay;
     const LaserDetectSummary s = RunLaserDetect(*job);
+    if (!s.bayer_doubt_frame.empty()) {
+      std::fprintf(
+          stderr, "laser detect: warning: %s\n",
+          BayerDiagonalWarning(s.bayer_doubt_frame, s.bayer_in_rig, s.bayer_doubt).c_str());
+    }
     if (!s.low_bits_frame.empty()) {
       std::fprintf(stderr, "laser detect: warning: %s\n",
                    LowSampleBitsWarning(s.low_bits_frame, s.low_sample_bits).c_str());

@@ -198,9 +198,18 @@ grep -q '"mosaic_phase_ratio": [0-9]' "$work/asmono.out/report.json" || fail "ra
 expect_status 0 "vo on raw frames as mono" "$uwscan" vo --dataset "$work/asmono" --out "$work/asmono.tum"
 grep -q "warning: $work/asmono/frames/000000.png: a single-channel frame whose 2x2 pixel phases" \
   "$work/err" || fail "vo on raw frames as mono: no warning: $(cat "$work/err")"
+# ... and with a pattern whose greens are on the other diagonal (grbg for rggb frames): named.
+cp -r "$work/ds" "$work/grbg" && sed -i 's/bayer: rggb/bayer: grbg/' "$work/grbg/rig.yaml"
+expect_status 0 "reconstruct rggb frames as grbg" "$uwscan" reconstruct --dataset "$work/grbg" \
+  --out "$work/grbg.out" --poses "$work/grbg/groundtruth.tum" --quiet
+grep -q "warning: $work/grbg/frames/000000.png: rig.yaml says bayer grbg, but this raw frame's green samples are on the other diagonal.*the pattern is rggb or bggr" \
+  "$work/err" || fail "rggb frames as grbg: no warning: $(cat "$work/err")"
+grep -q '"bayer_doubt": "rggb or bggr"' "$work/grbg.out/report.json" || fail "rggb as grbg: report"
 expect_status 0 "reconstruct raw frames" "$uwscan" reconstruct --dataset "$work/ds" \
   --out "$work/ds.out" --poses "$work/ds/groundtruth.tum" --quiet
 grep -q '"mosaic_phase_ratio": null' "$work/ds.out/report.json" || fail "raw frames: a ratio"
+grep -q '"bayer_doubt": null' "$work/ds.out/report.json" || fail "raw frames: a doubt on the pattern"
+! grep -q "other diagonal" "$work/err" || fail "raw frames: a pattern warning: $(cat "$work/err")"
 ! grep -q "mosaic" "$work/err" || fail "raw frames: a mosaic warning: $(cat "$work/err")"
 for cmd in "reconstruct --out $work/sb.out" "vo --out $work/sb.tum" "laser detect --out $work/sb.csv"; do
   # shellcheck disable=SC2086

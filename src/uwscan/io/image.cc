@@ -1,12 +1,14 @@
 #include "uwscan/io/image.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <vector>
 
 #include "uwscan/io/png.h"
@@ -60,9 +62,14 @@ std::string ImageTypeName(int type) {
   return std::to_string(CV_MAT_CN(type)) + "-channel " + bits;
 }
 
-double MosaicPhaseRatio(const cv::Mat& image) {
-  if (image.channels() != 1 || image.cols < 16 || image.rows < 16) return std::nan("");
-  if (image.depth() != CV_8U && image.depth() != CV_16U) return std::nan("");
+namespace {
+
+// The means of a single-channel 8- or 16-bit image's four 2x2 pixel phases
+// (row-major: (0,0), (0,1), (1,0), (1,1)) as fractions of full scale; none
+// for other images and ones under 16x16.
+std::optional<std::array<double, 4>> PhaseMeans(const cv::Mat& image) {
+  if (image.channels() != 1 || image.cols < 16 || image.rows < 16) return std::nullopt;
+  if (image.depth() != CV_8U && image.depth() != CV_16U) return std::nullopt;
   const double full_scale = image.depth() == CV_8U ? 255.0 : 65535.0;
   double sum[2][2] = {{0, 0}, {0, 0}};
   for (int y = 0; y < image.rows; ++y) {
@@ -72,12 +79,51 @@ double MosaicPhaseRatio(const cv::Mat& image) {
     }
   }
   const auto mean = [&](int y, int x) {  // the phase's pixels: odd sizes have fewer in the last
-    return sum[y][x] / (double((image.rows - y + 1) / 2) * double((image.cols - x + 1) / 2));
+    return sum[y][x] / (double((image.rows - y + 1) / 2) * double((image.cols - x + 1) / 2)) /
+           full_scale;
   };
-  const std::initializer_list<double> means = {mean(0, 0), mean(0, 1), mean(1, 0), mean(1, 1)};
-  const double brightest = std::max(means), darkest = std::min(means);
-  if (brightest < 0.02 * full_scale) return std::nan("");
-  return brightest / std::max(darkest, 0.01 * full_scale);
+  return std::array<double, 4>{mean(0, 0), mean(0, 1), mean(1, 0), mean(1, 1)};
+}
+
+// How many times the brighter of two phase means is the darker, both
+// floored at 1 % of full scale (a dark phase's mean is mostly noise).
+double PhaseRatio(double a, double b) {
+  a = std::max(a, 0.01);
+  b = std::max(b, 0.01);
+  return std::max(a, b) / std::min(a, b);
+}
+
+}  // namespace
+
+double MosaicPhaseRatio(const cv::Mat& image) {
+  const auto means = PhaseMeans(image);
+  if (!means) return std::nan("");
+  const double brightest = *std::max_element(means->begin(), means->end());
+  const double darkest = *std::min_element(means->begin(), means->end());
+  if (brightest < 0.02) return std::nan("");
+  return brightest / std::max(darkest, 0.01);
+}
+
+std::string OtherBayerDiagonal(const cv::Mat& raw, const std::string& bayer) {
+  const auto means = PhaseMeans(raw);
+  if (!means || bayer == "none") return "";
+  // rggb and bggr have their greens at (0,1) and (1,0), grbg and gbrg at
+  // (0,0) and (1,1). A Gr/Gb imbalance is a few percent.
+  const bool greens_off_diagonal = bayer == "rggb" || bayer == "bggr";
+  const double said = greens_off_diagonal ? PhaseRatio((*means)[1], (*means)[2])
+                                          : PhaseRatio((*means)[0], (*means)[3]);
+  const double other = greens_off_diagonal ? PhaseRatio((*means)[0], (*means)[3])
+                                           : PhaseRatio((*means)[1], (*means)[2]);
+  if (said > 1.5 && other < 1.2) return greens_off_diagonal ? "grbg or gbrg" : "rggb or bggr";
+  return "";
+}
+
+std::string BayerDiagonalWarning(const std::filesystem::path& file, const std::string& bayer,
+                                 const std::string& other) {
+  return file.string() + ": rig.yaml says bayer " + bayer +
+         ", but this raw frame's green samples are on the other diagonal (the two phases it " +
+         "calls green differ by more than half, the other two agree): the pattern is " + other +
+         "; set it in rig.yaml (OpenCV names a pattern by its second row: its BayerBG is rggb)";
 }
 
 std::string MosaicWarning(const std::filesystem::path& file, double ratio) {

@@ -31,6 +31,15 @@ double MosaicPhaseRatio(const cv::Mat& image);
 // A ratio from which a single-channel frame is taken for a raw mosaic: a
 // mono image's phases differ by well under a percent over a frame.
 constexpr double kMosaicPhaseRatio = 1.25;
+// A raw frame whose two green phases, where `bayer` (rig.yaml's) has them,
+// differ by more than half while the other two phases agree within a
+// fifth: its greens are on the other diagonal, and the patterns that have
+// them there ("grbg or gbrg", "rggb or bggr"); "" if not so (and for bayer
+// none). (A red/blue swap, rggb for bggr, keeps the greens: not seen here.)
+std::string OtherBayerDiagonal(const cv::Mat& raw, const std::string& bayer);
+// What to say of such a frame (`other` as OtherBayerDiagonal returned it).
+std::string BayerDiagonalWarning(const std::filesystem::path& file, const std::string& bayer,
+                                 const std::string& other);
 // What to say of such a frame where the camera is taken for a mono one.
 std::string MosaicWarning(const std::filesystem::path& file, double ratio);
 

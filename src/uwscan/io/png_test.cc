@@ -315,6 +315,16 @@ TEST(MosaicPhaseRatio, TellsARawMosaicFromAMonoImage) {
   EXPECT_NEAR(MosaicPhaseRatio(raw16), 1.0 / 0.3, 0.05);
   EXPECT_GT(MosaicPhaseRatio(raw), kMosaicPhaseRatio);
   EXPECT_LT(MosaicPhaseRatio(mono), kMosaicPhaseRatio);
+  // The rig's pattern against the frame's greens: an RGGB mosaic read as
+  // GRBG or GBRG has its "greens" on red and blue; BGGR (red and blue
+  // swapped) keeps them, and so does a mono image (nothing to tell).
+  EXPECT_EQ(OtherBayerDiagonal(raw, "rggb"), "");
+  EXPECT_EQ(OtherBayerDiagonal(raw, "bggr"), "");
+  EXPECT_EQ(OtherBayerDiagonal(raw, "grbg"), "rggb or bggr");
+  EXPECT_EQ(OtherBayerDiagonal(raw, "gbrg"), "rggb or bggr");
+  EXPECT_EQ(OtherBayerDiagonal(raw(cv::Rect(1, 0, 320, 240)), "rggb"), "grbg or gbrg");
+  EXPECT_EQ(OtherBayerDiagonal(raw, "none"), "");
+  EXPECT_EQ(OtherBayerDiagonal(mono, "grbg"), "");
   // Not to be judged: colour, too small, too dark.
   cv::Mat bgr;
   cv::cvtColor(mono, bgr, cv::COLOR_GRAY2BGR);

@@ -198,6 +198,13 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
         summary.mosaic_frame = images[i].string();
         summary.mosaic_phase_ratio = ratio;
       }
+      if (camera) {
+        summary.bayer_doubt = OtherBayerDiagonal(image, camera->bayer);
+        if (!summary.bayer_doubt.empty()) {
+          summary.bayer_doubt_frame = images[i].string();
+          summary.bayer_in_rig = camera->bayer;
+        }
+      }
       const int low_bits = job.sample_bits == 16 ? LowSampleBits(image) : 0;
       if (low_bits > 0) {
         summary.low_bits_frame = images[i].string();

@@ -54,6 +54,9 @@ struct LaserDetectSummary {
   // bits (LowSampleBits) and were read as stored, and those bits.
   std::string low_bits_frame;
   int low_sample_bits = 0;
+  // ... and if its greens are not where the rig's bayer has them
+  // (ReconstructReport::bayer_doubt_frame).
+  std::string bayer_doubt_frame, bayer_in_rig, bayer_doubt;
   double seconds = 0.0;
 };
 

@@ -72,6 +72,12 @@ void LineStage::InspectFirstFrame(const cv::Mat& image, const fs::path& file) {
     report_->mosaic_frame = file.string();
     report_->mosaic_phase_ratio = ratio;
   }
+  const std::string other = OtherBayerDiagonal(image, camera_.bayer);
+  if (!other.empty() && report_->bayer_doubt_frame.empty()) {
+    report_->bayer_doubt_frame = file.string();
+    report_->bayer_in_rig = camera_.bayer;
+    report_->bayer_doubt = other;
+  }
   const int low_bits = job_.sample_bits == 16 ? LowSampleBits(image) : 0;
   if (low_bits > 0 && report_->low_bits_frame.empty()) {
     report_->low_bits_frame = file.string();

@@ -211,6 +211,11 @@ struct ReconstructReport {
   // in the low bits (LowSampleBits) and were read as stored, and those bits.
   std::string low_bits_frame;
   int low_sample_bits = 0;
+  // The first frame, if raw and its greens are not where rig.yaml's bayer
+  // has them (OtherBayerDiagonal): rig.yaml's pattern, and the patterns
+  // that have them there.
+  std::string bayer_doubt_frame;
+  std::string bayer_in_rig, bayer_doubt;
   int sample_bits = 16;  // as used (ReconstructJob::sample_bits)
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;

@@ -180,6 +180,9 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       }
       const int low_bits = job.sample_bits == 16 ? LowSampleBits(raw) : 0;
       if (low_bits > 0) warn(LowSampleBitsWarning(dataset.dir / entry.file, low_bits));
+      const std::string other = OtherBayerDiagonal(raw, rig_camera.bayer);
+      if (!other.empty())
+        warn(BayerDiagonalWarning(dataset.dir / entry.file, rig_camera.bayer, other));
     }
     cv::Mat mask;
     if (job.mask_laser && !raw.empty() && raw.cols == rig_camera.width &&
