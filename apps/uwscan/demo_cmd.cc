@@ -37,7 +37,14 @@ void RunDemo(const DemoArgs& args) {
   const fs::path out(args.out);
   const fs::path dataset = out / "dataset";
   std::error_code error;
-  if (fs::exists(dataset, error)) fs::remove_all(dataset, error);
+  // A demo run again replaces its own dataset, and nothing else: a folder
+  // `dataset` under --out that is not a simulated one is the user's.
+  if (fs::exists(dataset, error)) {
+    UWS_CHECK(fs::exists(dataset / "scene.yaml", error), dataset.string(),
+              ": exists and is not a simulated dataset (no scene.yaml); the demo replaces only "
+              "its own: give another --out");
+    fs::remove_all(dataset, error);
+  }
   UWS_CHECK(!error, dataset.string(), ": cannot replace: ", error.message());
   InterruptibleScope interruptible;
   OutputFolder folder(out);  // removed again if the demo fails or is stopped before it fills it

@@ -103,6 +103,14 @@ grep -q -- "--frames must be >= 20" "$dir/err" || fail "--frames 5: unclear erro
 grep -q -- "--width/--height must be at least 320x240 (got 160x120)" "$dir/err" \
   || fail "--width 160: unclear error: $(cat "$dir/err")"
 [ ! -e "$dir/tiny" ] || fail "--width 160 wrote output"
+# A folder `dataset` under --out that the demo did not make is the user's: kept, exit 1 (it was
+# removed with all it held).
+mkdir -p "$dir/mine/dataset" && echo data >"$dir/mine/dataset/survey.txt"
+"$bin" demo --frames 20 --width 320 --height 240 --quiet --out "$dir/mine" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] || fail "--out over a user's dataset folder: want exit 1"
+grep -q "$dir/mine/dataset: exists and is not a simulated dataset" "$dir/err" ||
+  fail "--out over a user's dataset folder: $(cat "$dir/err")"
+[ -f "$dir/mine/dataset/survey.txt" ] || fail "the demo removed a user's dataset folder"
 touch "$dir/file"
 "$bin" demo --frames 20 --width 320 --height 240 --quiet --out "$dir/file" >/dev/null 2>"$dir/err"
 [ $? -eq 1 ] || fail "--out a file: want exit 1"
