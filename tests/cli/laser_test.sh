@@ -51,6 +51,20 @@ for frame, centre in ((0, 60.25), (2, 100.5)):
     assert rms < 0.15, (frame, rms)
 PY
 [ -f "$dir/overlay/000.png" ] || fail "overlay image"
+# Overlays into the images' own folder would replace the frames with their drawings (they did):
+# a usage error, the frames untouched; so is an --out onto an input.
+cp -r "$dir/frames" "$dir/own"
+sum_before=$(cksum <"$dir/own/000.pgm")
+"$bin" laser detect --images "$dir/own" --out "$dir/own.csv" --overlay "$dir/own/" --quiet \
+  2>"$dir/err"
+[ $? -eq 2 ] || fail "--overlay onto the images: want exit 2"
+grep -q -- "--overlay $dir/own/ is the folder of the images" "$dir/err" ||
+  fail "--overlay onto the images: $(cat "$dir/err")"
+[ "$(cksum <"$dir/own/000.pgm")" = "$sum_before" ] || fail "--overlay overwrote a frame"
+[ ! -e "$dir/own/000.png" ] || fail "--overlay wrote beside the frames"
+"$bin" laser detect --images "$dir/own" --out "$dir/own/000.pgm" --quiet 2>"$dir/err"
+[ $? -eq 2 ] || fail "--out onto a frame: want exit 2"
+[ "$(cksum <"$dir/own/000.pgm")" = "$sum_before" ] || fail "--out overwrote a frame"
 ! grep -q "full scale" "$dir/err" || fail "no clipping on these frames: $(cat "$dir/err")"
 ! grep -q "mosaic" "$dir/err" || fail "mono frames taken for a mosaic: $(cat "$dir/err")"
 

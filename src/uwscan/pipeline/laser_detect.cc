@@ -96,6 +96,36 @@ void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
   file.Commit();
 }
 
+// The outputs must not overwrite what is read: overlays written into the
+// images' own folder replaced the frames with their drawings, and an --out
+// or --profiles onto frames.csv or rig.yaml would replace the dataset's.
+void CheckOutputsSpareInputs(const LaserDetectJob& job, const std::vector<fs::path>& images) {
+  std::error_code error;
+  const auto same = [&error](const fs::path& a, const fs::path& b) {
+    return fs::exists(a, error) && fs::exists(b, error) && fs::equivalent(a, b, error);
+  };
+  if (job.overlay_dir) {
+    for (const fs::path& image : images) {
+      UWS_USAGE_CHECK(!same(image.parent_path(), *job.overlay_dir), "--overlay ",
+                      job.overlay_dir->string(), " is the folder of the images (", image.string(),
+                      "): the overlays would overwrite them");
+    }
+  }
+  std::vector<fs::path> inputs = images;
+  if (!job.dataset_dir.empty()) {
+    inputs.push_back(job.dataset_dir / "frames.csv");
+    inputs.push_back(job.dataset_dir / "rig.yaml");
+  }
+  if (job.rig_path) inputs.push_back(*job.rig_path);
+  for (const fs::path& input : inputs) {
+    UWS_USAGE_CHECK(!same(input, job.detections_csv), "--out ", job.detections_csv.string(),
+                    " is an input (", input.string(), "): it would be overwritten");
+    UWS_USAGE_CHECK(!job.profiles_csv || !same(input, *job.profiles_csv), "--profiles ",
+                    job.profiles_csv ? job.profiles_csv->string() : "", " is an input (",
+                    input.string(), "): it would be overwritten");
+  }
+}
+
 }  // namespace
 
 LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
@@ -153,6 +183,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   options.albedo_channel = job.albedo == "auto" ? laser::AlbedoChannelFor(options.laser_channel)
                                                 : laser::ChannelFromName(job.albedo);
   options.make_mask = false;  // not written by this command
+  CheckOutputsSpareInputs(job, images);
   std::optional<OutputFolder> overlays;
   if (job.overlay_dir) overlays.emplace(*job.overlay_dir);
 
