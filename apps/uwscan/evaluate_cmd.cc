@@ -119,6 +119,10 @@ void RegisterEvaluateCommand(CLI::App& app) {
                 (fs::path(*result) / cloud).string(),
                 ": missing (reconstruct writes it beside trajectory.tum)");
     }
+    if (!json_path->empty()) {
+      RefuseOutputOntoInput("--json", *json_path,
+                            {estimate_path, truth_path, fs::path(*dataset) / "scene.yaml"});
+    }
     const TumTrajectory estimate = ReadTumTrajectory(estimate_path);
     const TumTrajectory truth = ReadTumTrajectory(truth_path);
     TrajectoryMetrics metrics;

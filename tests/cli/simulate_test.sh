@@ -187,6 +187,15 @@ expect_status 1 "reconstruct --poses in nanoseconds" "$uwscan" reconstruct --dat
 grep -q "ns.tum: timestamps step by .* these look like nanoseconds (divide by 1e9)" "$work/err" ||
   fail "--poses in nanoseconds: $(cat "$work/err")"
 
+# Outputs onto the dataset's own files are usage errors, the files untouched.
+truth_sum=$(cksum <"$work/ds/groundtruth.tum")
+expect_status 2 "vo --out onto the ground truth" "$uwscan" vo --dataset "$work/ds" \
+  --out "$work/ds/groundtruth.tum" --quiet
+grep -q -- "--out $work/ds/groundtruth.tum is an input" "$work/err" || fail "vo --out: $(cat "$work/err")"
+expect_status 2 "evaluate --json onto the ground truth" "$uwscan" evaluate --dataset "$work/ds" \
+  --trajectory "$work/ds/groundtruth.tum" --json "$work/ds/groundtruth.tum"
+[ "$(cksum <"$work/ds/groundtruth.tum")" = "$truth_sum" ] || fail "the ground truth was overwritten"
+
 # Raw Bayer frames with a rig that says bayer: none (a mono camera): a warning names the first
 # frame and says what to set; report.json has the phases' ratio (null for the right rig).
 cp -r "$work/ds" "$work/asmono" && sed -i 's/bayer: rggb/bayer: none/' "$work/asmono/rig.yaml"

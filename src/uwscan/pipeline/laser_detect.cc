@@ -117,13 +117,8 @@ void CheckOutputsSpareInputs(const LaserDetectJob& job, const std::vector<fs::pa
     inputs.push_back(job.dataset_dir / "rig.yaml");
   }
   if (job.rig_path) inputs.push_back(*job.rig_path);
-  for (const fs::path& input : inputs) {
-    UWS_USAGE_CHECK(!same(input, job.detections_csv), "--out ", job.detections_csv.string(),
-                    " is an input (", input.string(), "): it would be overwritten");
-    UWS_USAGE_CHECK(!job.profiles_csv || !same(input, *job.profiles_csv), "--profiles ",
-                    job.profiles_csv ? job.profiles_csv->string() : "", " is an input (",
-                    input.string(), "): it would be overwritten");
-  }
+  RefuseOutputOntoInput("--out", job.detections_csv, inputs);
+  if (job.profiles_csv) RefuseOutputOntoInput("--profiles", *job.profiles_csv, inputs);
 }
 
 }  // namespace

@@ -105,6 +105,13 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   job.Check();
   const auto start = std::chrono::steady_clock::now();
   const VoDataset dataset = ReadVoDataset(job.dataset_dir);
+  {
+    std::vector<std::filesystem::path> inputs = {
+        dataset.dir / "frames.csv", dataset.dir / "rig.yaml", dataset.dir / "groundtruth.tum"};
+    for (const FrameRecord& frame : dataset.frames) inputs.push_back(dataset.dir / frame.file);
+    RefuseOutputOntoInput("--out", job.trajectory_out, inputs);
+    if (job.status_out) RefuseOutputOntoInput("--status", *job.status_out, inputs);
+  }
   const Camera& rig_camera = dataset.rig.CameraByName(job.camera_name);
   size_t camera_index = 0;
   while (dataset.rig.cameras[camera_index].name != rig_camera.name) ++camera_index;

@@ -99,6 +99,18 @@ void StagedFolder::Commit() {
   committed_ = true;
 }
 
+void RefuseOutputOntoInput(const std::string& option, const std::filesystem::path& output,
+                           const std::vector<std::filesystem::path>& inputs) {
+  std::error_code error;
+  if (!std::filesystem::exists(output, error)) return;
+  for (const auto& input : inputs) {
+    UWS_USAGE_CHECK(!(std::filesystem::exists(input, error) &&
+                      std::filesystem::equivalent(input, output, error)),
+                    option, " ", output.string(), " is an input (", input.string(),
+                    "): it would be overwritten");
+  }
+}
+
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents) {
   AtomicFile file(path);
   file.stream() << contents;

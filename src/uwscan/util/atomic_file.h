@@ -75,4 +75,10 @@ class StagedFolder {
 // Writes a whole string atomically.
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents);
 
+// Throws uwscan::UsageError, naming `option`, if `output` is one of the
+// existing `inputs` (the same file by any path): writing it would replace
+// what the command reads, such as a dataset's frames.csv or a frame.
+void RefuseOutputOntoInput(const std::string& option, const std::filesystem::path& output,
+                           const std::vector<std::filesystem::path>& inputs);
+
 }  // namespace uwscan

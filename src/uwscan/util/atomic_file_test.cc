@@ -61,6 +61,23 @@ TEST_F(AtomicOutputTest, AMissingFolderIsNamed) {
                                                 (root_ / "file").string() + " is not a folder");
 }
 
+// An output onto one of the inputs, by any path, is refused by option.
+TEST_F(AtomicOutputTest, AnOutputOntoAnInputIsRefused) {
+  WriteFileAtomic(root_ / "frames.csv", "x");
+  fs::create_directories(root_ / "sub");
+  EXPECT_NO_THROW(RefuseOutputOntoInput("--out", root_ / "new.tum", {root_ / "frames.csv"}));
+  EXPECT_NO_THROW(RefuseOutputOntoInput("--out", root_ / "frames.csv", {root_ / "missing.csv"}));
+  try {
+    RefuseOutputOntoInput("--out", root_ / "sub/../frames.csv",
+                          {root_ / "rig.yaml", root_ / "frames.csv"});
+    ADD_FAILURE() << "an output onto an input";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()), "--out " + (root_ / "sub/../frames.csv").string() +
+                                         " is an input (" + (root_ / "frames.csv").string() +
+                                         "): it would be overwritten");
+  }
+}
+
 TEST_F(AtomicOutputTest, AFailedJobLeavesNoFolderItMade) {
   const fs::path out = root_ / "new" / "deeper";
   {
