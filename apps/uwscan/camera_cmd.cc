@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/util/atomic_file.h"
 #include "uwscan/util/csv.h"
 #include "uwscan/util/error.h"
 
@@ -22,6 +23,7 @@ void RunProject(const ProjectArgs& args) {
   const auto method = ProjectionMethodFromName(args.method);
   if (!method) throw UsageError("--method must be exact, taylor or pinhole");
   if (args.iterations < 1 || args.iterations > 50) throw UsageError("--iterations must be 1..50");
+  RefuseOutputOntoInput("--out", args.out, {args.in, args.rig});
   const Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
   const CsvTable points = ReadNumericCsv(args.in, {"x", "y", "z"});
@@ -37,6 +39,7 @@ void RunProject(const ProjectArgs& args) {
 }
 
 void RunBackproject(const BackprojectArgs& args) {
+  RefuseOutputOntoInput("--out", args.out, {args.in, args.rig});
   const Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
   const CsvTable pixels = ReadNumericCsv(args.in, {"u", "v"});

@@ -69,6 +69,12 @@ grep -q "image corner" "$dir/analyze.txt" || fail "analyze d_air"
 "$bin" camera project --rig "$dir/missing.yaml" --in "$dir/points.csv" --out "$dir/x.csv" 2>"$dir/err"
 [ $? -eq 1 ] || fail "missing rig should exit 1"
 grep -q "missing.yaml" "$dir/err" || fail "error names the file"
+points_sum=$(cksum <"$dir/points.csv")
+"$bin" camera project --rig "$dir/rig.yaml" --in "$dir/points.csv" --out "$dir/points.csv" \
+  2>"$dir/err"
+[ $? -eq 2 ] || fail "--out onto --in should exit 2"
+grep -q -- "--out $dir/points.csv is an input" "$dir/err" || fail "--out onto --in: $(cat "$dir/err")"
+[ "$(cksum <"$dir/points.csv")" = "$points_sum" ] || fail "--out onto --in replaced the points"
 printf 'x,y,z\n1,2\n' >"$dir/bad.csv"
 "$bin" camera project --rig "$dir/rig.yaml" --in "$dir/bad.csv" --out "$dir/out.csv" 2>"$dir/err"
 [ $? -eq 1 ] || fail "bad csv should exit 1"
