@@ -70,22 +70,8 @@ void RegisterLaserCommands(CLI::App& app) {
     if (!profiles->empty()) job->profiles_csv = *profiles;
     if (!overlay->empty()) job->overlay_dir = *overlay;
     const LaserDetectSummary s = RunLaserDetect(*job);
-    if (!s.bayer_doubt_frame.empty()) {
-      std::fprintf(
-          stderr, "laser detect: warning: %s\n",
-          BayerDiagonalWarning(s.bayer_doubt_frame, s.bayer_in_rig, s.bayer_doubt).c_str());
-    }
-    if (!s.low_bits_frame.empty()) {
-      std::fprintf(stderr, "laser detect: warning: %s\n",
-                   LowSampleBitsWarning(s.low_bits_frame, s.low_sample_bits).c_str());
-    }
-    if (!s.mosaic_frame.empty()) {
-      std::fprintf(stderr, "laser detect: warning: %s; %s\n",
-                   MosaicWarning(s.mosaic_frame, s.mosaic_phase_ratio).c_str(),
-                   job->rig_path || !job->dataset_dir.empty()
-                       ? "set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml"
-                       : "give --rig with the camera's bayer (rggb, bggr, grbg or gbrg)");
-    }
+    for (const std::string& warning : s.first_frame.Warnings())
+      std::fprintf(stderr, "laser detect: warning: %s\n", warning.c_str());
     if (!job->quiet) {
       const std::string laser_off =
           s.frames_laser_off > 0

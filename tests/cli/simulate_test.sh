@@ -196,11 +196,16 @@ expect_status 2 "evaluate --json onto the ground truth" "$uwscan" evaluate --dat
   --trajectory "$work/ds/groundtruth.tum" --json "$work/ds/groundtruth.tum"
 [ "$(cksum <"$work/ds/groundtruth.tum")" = "$truth_sum" ] || fail "the ground truth was overwritten"
 
+# The small dataset's raw RGGB frames with another pattern in rig.yaml, reconstructed on the true
+# poses: reconstruct_as NAME PATTERN (into $work/NAME.out).
+reconstruct_as() {
+  cp -r "$work/ds" "$work/$1" && sed -i "s/bayer: rggb/bayer: $2/" "$work/$1/rig.yaml"
+  expect_status 0 "reconstruct rggb frames as $2" "$uwscan" reconstruct --dataset "$work/$1" \
+    --out "$work/$1.out" --poses "$work/$1/groundtruth.tum" --quiet
+}
 # Raw Bayer frames with a rig that says bayer: none (a mono camera): a warning names the first
 # frame and says what to set; report.json has the phases' ratio (null for the right rig).
-cp -r "$work/ds" "$work/asmono" && sed -i 's/bayer: rggb/bayer: none/' "$work/asmono/rig.yaml"
-expect_status 0 "reconstruct raw frames as mono" "$uwscan" reconstruct --dataset "$work/asmono" \
-  --out "$work/asmono.out" --poses "$work/asmono/groundtruth.tum" --quiet
+reconstruct_as asmono none
 grep -q "warning: $work/asmono/frames/000000.png: a single-channel frame whose 2x2 pixel phases differ in mean by a factor of [0-9.]*: it looks like a raw Bayer mosaic.*; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml$" \
   "$work/err" || fail "raw frames as mono: no warning: $(cat "$work/err")"
 grep -q '"mosaic_phase_ratio": [0-9]' "$work/asmono.out/report.json" || fail "raw frames as mono: ratio"
@@ -208,9 +213,7 @@ expect_status 0 "vo on raw frames as mono" "$uwscan" vo --dataset "$work/asmono"
 grep -q "warning: $work/asmono/frames/000000.png: a single-channel frame whose 2x2 pixel phases" \
   "$work/err" || fail "vo on raw frames as mono: no warning: $(cat "$work/err")"
 # ... and with a pattern whose greens are on the other diagonal (grbg for rggb frames): named.
-cp -r "$work/ds" "$work/grbg" && sed -i 's/bayer: rggb/bayer: grbg/' "$work/grbg/rig.yaml"
-expect_status 0 "reconstruct rggb frames as grbg" "$uwscan" reconstruct --dataset "$work/grbg" \
-  --out "$work/grbg.out" --poses "$work/grbg/groundtruth.tum" --quiet
+reconstruct_as grbg grbg
 grep -q "warning: $work/grbg/frames/000000.png: rig.yaml says bayer grbg, but this raw frame's green samples are on the other diagonal.*the pattern is rggb or bggr" \
   "$work/err" || fail "rggb frames as grbg: no warning: $(cat "$work/err")"
 grep -q '"bayer_doubt": "rggb or bggr"' "$work/grbg.out/report.json" || fail "rggb as grbg: report"

@@ -118,22 +118,6 @@ std::string OtherBayerDiagonal(const cv::Mat& raw, const std::string& bayer) {
   return "";
 }
 
-std::string BayerDiagonalWarning(const std::filesystem::path& file, const std::string& bayer,
-                                 const std::string& other) {
-  return file.string() + ": rig.yaml says bayer " + bayer +
-         ", but this raw frame's green samples are on the other diagonal (the two phases it " +
-         "calls green differ by more than half, the other two agree): the pattern is " + other +
-         "; set it in rig.yaml (OpenCV names a pattern by its second row: its BayerBG is rggb)";
-}
-
-std::string MosaicWarning(const std::filesystem::path& file, double ratio) {
-  char factor[32];
-  std::snprintf(factor, sizeof factor, "%.2f", ratio);
-  return file.string() + ": a single-channel frame whose 2x2 pixel phases differ in mean by a " +
-         "factor of " + factor + ": it looks like a raw Bayer mosaic, but the camera is taken " +
-         "for a mono one (bayer: none), and its colours are read as one grey image";
-}
-
 void ScaleLowBitSamples(cv::Mat* image, int sample_bits, const std::filesystem::path& file) {
   if (sample_bits == 0 || sample_bits == 16 || image->empty()) return;
   UWS_CHECK(sample_bits >= 9 && sample_bits < 16, "sample bits must be 9-16 (got ", sample_bits,
@@ -178,18 +162,56 @@ int LowSampleBits(const cv::Mat& image) {
   return 0;  // full-range samples of 12 bits or fewer, dark
 }
 
+FrameDoubts InspectFrame(const cv::Mat& image, const std::filesystem::path& file,
+                         const std::string& bayer, bool from_rig, int sample_bits) {
+  FrameDoubts doubts;
+  doubts.file = file;
+  doubts.bayer = bayer;
+  doubts.from_rig = from_rig;
+  const double ratio = bayer == "none" ? MosaicPhaseRatio(image) : std::nan("");
+  if (ratio > kMosaicPhaseRatio) doubts.mosaic_phase_ratio = ratio;
+  if (sample_bits == 16) doubts.low_sample_bits = LowSampleBits(image);
+  doubts.other_bayer = OtherBayerDiagonal(image, bayer);
+  return doubts;
+}
+
+std::vector<std::string> FrameDoubts::Warnings() const {
+  std::vector<std::string> warnings;
+  if (!other_bayer.empty()) {
+    warnings.push_back(file.string() + ": rig.yaml says bayer " + bayer +
+                       ", but this raw frame's green samples are on the other diagonal (the two "
+                       "phases it calls green differ by more than half, the other two agree): "
+                       "the pattern is " +
+                       other_bayer +
+                       "; set it in rig.yaml (OpenCV names a pattern by its second row: its "
+                       "BayerBG is rggb)");
+  }
+  if (low_sample_bits > 0) {
+    const std::string bits = std::to_string(low_sample_bits);
+    warnings.push_back(file.string() + ": a 16-bit frame whose samples all fit in " + bits +
+                       " bits: it looks like a " + bits +
+                       "-bit camera's frame saved unpacked, read as 16-bit and " +
+                       std::to_string(1 << (16 - low_sample_bits)) +
+                       " times darker than the features' and the clipping's thresholds take it "
+                       "to be; give --sample-bits " +
+                       bits);
+  }
+  if (mosaic_phase_ratio > 0) {
+    char factor[32];
+    std::snprintf(factor, sizeof factor, "%.2f", mosaic_phase_ratio);
+    warnings.push_back(
+        file.string() + ": a single-channel frame whose 2x2 pixel phases differ in mean by a " +
+        "factor of " + factor + ": it looks like a raw Bayer mosaic, but the camera is taken " +
+        "for a mono one (bayer: none), and its colours are read as one grey image; " +
+        (from_rig ? "set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml"
+                  : "give --rig with the camera's bayer (rggb, bggr, grbg or gbrg)"));
+  }
+  return warnings;
+}
+
 void CheckSampleBitsOption(int sample_bits) {
   UWS_USAGE_CHECK(sample_bits >= 9 && sample_bits <= 16,
                   "--sample-bits must be 9-16 (16: as stored), got ", sample_bits);
-}
-
-std::string LowSampleBitsWarning(const std::filesystem::path& file, int bits) {
-  return file.string() + ": a 16-bit frame whose samples all fit in " + std::to_string(bits) +
-         " bits: it looks like a " + std::to_string(bits) +
-         "-bit camera's frame saved unpacked, read as 16-bit and " +
-         std::to_string(1 << (16 - bits)) +
-         " times darker than the features' and the clipping's thresholds take it to be; give " +
-         "--sample-bits " + std::to_string(bits);
 }
 
 cv::Mat DemosaicToBgr(const cv::Mat& raw, const std::string& bayer) {

@@ -37,11 +37,6 @@ constexpr double kMosaicPhaseRatio = 1.25;
 // them there ("grbg or gbrg", "rggb or bggr"); "" if not so (and for bayer
 // none). (A red/blue swap, rggb for bggr, keeps the greens: not seen here.)
 std::string OtherBayerDiagonal(const cv::Mat& raw, const std::string& bayer);
-// What to say of such a frame (`other` as OtherBayerDiagonal returned it).
-std::string BayerDiagonalWarning(const std::filesystem::path& file, const std::string& bayer,
-                                 const std::string& other);
-// What to say of such a frame where the camera is taken for a mono one.
-std::string MosaicWarning(const std::filesystem::path& file, double ratio);
 
 // A 10-, 12- or 14-bit camera's frames saved unpacked hold their samples in
 // the low bits of 16-bit pixels, 2^(16 - bits) times darker than the
@@ -64,8 +59,24 @@ int LowSampleBits(const cv::Mat& image);
 void PrepareFrame(cv::Mat* image, int sample_bits, const std::filesystem::path& file);
 // Throws uwscan::UsageError unless 9-16 (the commands' --sample-bits).
 void CheckSampleBitsOption(int sample_bits);
-// What to say of such a frame read as it is stored.
-std::string LowSampleBitsWarning(const std::filesystem::path& file, int bits);
+
+// What a camera's first frame says of how it is read: a raw mosaic taken for
+// a mono image, samples in the low bits read as stored, or the greens off
+// the rig's Bayer pattern.
+struct FrameDoubts {
+  std::filesystem::path file;       // the frame looked at (empty: none)
+  std::string bayer;                // as it was read ("none": a mono camera)
+  bool from_rig = true;             // bayer is rig.yaml's, not for want of a rig
+  double mosaic_phase_ratio = 0.0;  // MosaicPhaseRatio, if above kMosaicPhaseRatio
+  int low_sample_bits = 0;          // LowSampleBits, if read as stored
+  std::string other_bayer;          // OtherBayerDiagonal
+  // One line for each, naming the frame and what to set.
+  std::vector<std::string> Warnings() const;
+};
+// `bayer` is the camera's in rig.yaml ("none" without one: `from_rig`
+// false), `sample_bits` the command's --sample-bits.
+FrameDoubts InspectFrame(const cv::Mat& image, const std::filesystem::path& file,
+                         const std::string& bayer, bool from_rig, int sample_bits);
 
 // The image files of a folder (png, jpg, jpeg, tif, tiff, pgm, ppm, bmp, any
 // case), sorted by name. Throws uwscan::Error naming the folder if it is

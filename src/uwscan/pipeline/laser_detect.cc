@@ -218,24 +218,8 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     PrepareFrame(&image, job.sample_bits, images[i]);
     const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
     if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1) {
-      const double ratio =
-          layout == laser::ColourLayout::kMono ? MosaicPhaseRatio(image) : std::nan("");
-      if (ratio > kMosaicPhaseRatio) {
-        summary.mosaic_frame = images[i].string();
-        summary.mosaic_phase_ratio = ratio;
-      }
-      if (camera) {
-        summary.bayer_doubt = OtherBayerDiagonal(image, camera->bayer);
-        if (!summary.bayer_doubt.empty()) {
-          summary.bayer_doubt_frame = images[i].string();
-          summary.bayer_in_rig = camera->bayer;
-        }
-      }
-      const int low_bits = job.sample_bits == 16 ? LowSampleBits(image) : 0;
-      if (low_bits > 0) {
-        summary.low_bits_frame = images[i].string();
-        summary.low_sample_bits = low_bits;
-      }
+      summary.first_frame = InspectFrame(image, images[i], camera ? camera->bayer : "none",
+                                         camera != nullptr, job.sample_bits);
     }
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);
     if (detection.points.empty()) ++summary.frames_without_line;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "uwscan/io/image.h"
 #include "uwscan/laser/detector.h"
 #include "uwscan/sensor/rig.h"
 
@@ -45,18 +46,7 @@ struct LaserDetectSummary {
   // share over all frames (laser::MeasureClipping).
   int frames_with_clipped_scene = 0;
   double clipped_scene_share = 0.0;
-  // The first frame, if single-channel while the camera is taken for a mono
-  // one (no rig, or bayer: none) and it looks like a raw Bayer mosaic
-  // (MosaicPhaseRatio above kMosaicPhaseRatio), and the ratio.
-  std::string mosaic_frame;
-  double mosaic_phase_ratio = 0.0;
-  // The first frame, if its 16-bit samples look like fewer bits in the low
-  // bits (LowSampleBits) and were read as stored, and those bits.
-  std::string low_bits_frame;
-  int low_sample_bits = 0;
-  // ... and if its greens are not where the rig's bayer has them
-  // (ReconstructReport::bayer_doubt_frame).
-  std::string bayer_doubt_frame, bayer_in_rig, bayer_doubt;
+  FrameDoubts first_frame;  // of the first frame read
   double seconds = 0.0;
 };
 

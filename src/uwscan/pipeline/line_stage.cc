@@ -67,21 +67,9 @@ cv::Mat LineStage::ReadFrameImage(size_t i) const {
 
 void LineStage::InspectFirstFrame(const cv::Mat& image, const fs::path& file) {
   first_image_type_ = image.type();
-  const double ratio = camera_.bayer == "none" ? MosaicPhaseRatio(image) : std::nan("");
-  if (ratio > kMosaicPhaseRatio && report_->mosaic_frame.empty()) {
-    report_->mosaic_frame = file.string();
-    report_->mosaic_phase_ratio = ratio;
-  }
-  const std::string other = OtherBayerDiagonal(image, camera_.bayer);
-  if (!other.empty() && report_->bayer_doubt_frame.empty()) {
-    report_->bayer_doubt_frame = file.string();
-    report_->bayer_in_rig = camera_.bayer;
-    report_->bayer_doubt = other;
-  }
-  const int low_bits = job_.sample_bits == 16 ? LowSampleBits(image) : 0;
-  if (low_bits > 0 && report_->low_bits_frame.empty()) {
-    report_->low_bits_frame = file.string();
-    report_->low_sample_bits = low_bits;
+  if (report_->first_frame.file.empty()) {  // the main camera's, run first
+    report_->first_frame =
+        InspectFrame(image, file, camera_.bayer, /*from_rig=*/true, job_.sample_bits);
   }
 }
 

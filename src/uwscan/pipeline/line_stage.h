@@ -63,9 +63,8 @@ class LineStage {
   // A detected point's scan line and position along it.
   std::pair<int, float> OnScanLine(const laser::LaserPoint& p) const;
   void StartSweepFilter();
-  // The first frame: its type, which every frame must have, and whether it
-  // looks like a raw mosaic read as mono, or like samples in the low bits
-  // (ReconstructReport::mosaic_frame, low_bits_frame).
+  // The first frame: its type, which every frame must have, and what it
+  // says of how the frames are read (ReconstructReport::first_frame).
   void InspectFirstFrame(const cv::Mat& image, const std::filesystem::path& file);
 
   const ReconstructJob& job_;

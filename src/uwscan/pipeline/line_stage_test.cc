@@ -222,7 +222,7 @@ TEST(ReconstructSampleBits, TwelveBitFramesSavedUnpackedAreScaledUp) {
   ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
   job.out = root / "full_range";
   const ReconstructReport full_range = RunReconstruct(job);
-  EXPECT_TRUE(full_range.low_bits_frame.empty());
+  EXPECT_EQ(full_range.first_frame.low_sample_bits, 0);
   EXPECT_GT(full_range.points, 12 * 50);
 
   for (const auto& entry : fs::directory_iterator(job.dataset / "frames")) {
@@ -232,8 +232,8 @@ TEST(ReconstructSampleBits, TwelveBitFramesSavedUnpackedAreScaledUp) {
   }
   job.out = root / "as_stored";
   const ReconstructReport as_stored = RunReconstruct(job);
-  EXPECT_EQ(as_stored.low_bits_frame, (job.dataset / "frames/000000.png").string());
-  EXPECT_EQ(as_stored.low_sample_bits, 12);
+  EXPECT_EQ(as_stored.first_frame.file, job.dataset / "frames/000000.png");
+  EXPECT_EQ(as_stored.first_frame.low_sample_bits, 12);
   const std::vector<std::string> warnings = as_stored.Warnings();
   EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
     return w.find("give --sample-bits 12") != std::string::npos;
@@ -242,7 +242,7 @@ TEST(ReconstructSampleBits, TwelveBitFramesSavedUnpackedAreScaledUp) {
   job.out = root / "scaled";
   job.sample_bits = 12;
   const ReconstructReport scaled = RunReconstruct(job);
-  EXPECT_TRUE(scaled.low_bits_frame.empty());
+  EXPECT_EQ(scaled.first_frame.low_sample_bits, 0);
   EXPECT_EQ(scaled.points, full_range.points);
   EXPECT_EQ(FileBytes(root / "scaled/cloud.ply"), FileBytes(root / "full_range/cloud.ply"));
 

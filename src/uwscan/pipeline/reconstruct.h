@@ -13,6 +13,7 @@
 #include "uwscan/fusion/pose_provider.h"
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/dataset.h"
+#include "uwscan/io/image.h"
 #include "uwscan/laser/detector.h"
 #include "uwscan/laser/profile.h"
 
@@ -202,21 +203,8 @@ struct ReconstructReport {
   int frames_with_clipped_features = 0;
   std::string features_colour;           // its name ("red"); empty: not measured
   int frames_sweep_filter_restored = 0;  // nearly the whole line would have gone: kept
-  // A camera whose rig.yaml says bayer: none, its first frame single-channel
-  // with MosaicPhaseRatio above kMosaicPhaseRatio: the frame and the ratio
-  // (empty: none such).
-  std::string mosaic_frame;
-  double mosaic_phase_ratio = 0.0;
-  // The first frame, if its 16-bit samples look like a camera's fewer bits
-  // in the low bits (LowSampleBits) and were read as stored, and those bits.
-  std::string low_bits_frame;
-  int low_sample_bits = 0;
-  // The first frame, if raw and its greens are not where rig.yaml's bayer
-  // has them (OtherBayerDiagonal): rig.yaml's pattern, and the patterns
-  // that have them there.
-  std::string bayer_doubt_frame;
-  std::string bayer_in_rig, bayer_doubt;
-  int sample_bits = 16;  // as used (ReconstructJob::sample_bits)
+  FrameDoubts first_frame;               // the main camera's (LineStage's first)
+  int sample_bits = 16;                  // as used (ReconstructJob::sample_bits)
   double seconds = 0.0;
   double seconds_detect = 0.0, seconds_triangulate = 0.0, seconds_pose = 0.0, seconds_io = 0.0;
   // Of seconds_io: waiting for the reading thread's next image (read,

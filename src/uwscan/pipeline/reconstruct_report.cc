@@ -268,14 +268,7 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
   }
-  if (!bayer_doubt_frame.empty())
-    warnings.push_back(BayerDiagonalWarning(bayer_doubt_frame, bayer_in_rig, bayer_doubt));
-  if (!low_bits_frame.empty())
-    warnings.push_back(LowSampleBitsWarning(low_bits_frame, low_sample_bits));
-  if (!mosaic_frame.empty()) {
-    warnings.push_back(MosaicWarning(mosaic_frame, mosaic_phase_ratio) +
-                       "; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml");
-  }
+  for (const std::string& warning : first_frame.Warnings()) warnings.push_back(warning);
   if (frames_clipping_examined > 0 &&
       frames_with_clipped_scene >= laser::kClippedFramesToWarn * frames_clipping_examined) {
     warnings.push_back(laser::ClippedSceneWarning(frames_with_clipped_scene, ClippedSceneShare()));
@@ -414,6 +407,10 @@ nlohmann::json ReconstructReport::ToJson() const {
     pass_moves_mm.push_back(1e3 * change.moved_m);
     pass_turns_deg.push_back(change.turned_deg);
   }
+  // What the first frame showed, null if nothing.
+  const auto or_null = [](bool found, const auto& value) {
+    return found ? nlohmann::json(value) : nlohmann::json();
+  };
   return {
       {"frames", frames},
       {"warnings", Warnings()},
@@ -437,14 +434,13 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"frames_with_clipped_scene", frames_with_clipped_scene},
       {"clipped_scene_share", ClippedSceneShare()},
       {"frames_with_clipped_features", frames_with_clipped_features},
-      {"low_sample_bits",
-       low_bits_frame.empty() ? nlohmann::json() : nlohmann::json(low_sample_bits)},
-      {"sample_bits", sample_bits},
-      {"bayer_doubt", bayer_doubt_frame.empty() ? nlohmann::json() : nlohmann::json(bayer_doubt)},
-      {"mosaic_phase_ratio",
-       mosaic_frame.empty() ? nlohmann::json() : nlohmann::json(mosaic_phase_ratio)},
       {"clipped_features_share", ClippedFeaturesShare()},
       {"features_colour", features_colour},
+      {"sample_bits", sample_bits},
+      {"low_sample_bits", or_null(first_frame.low_sample_bits > 0, first_frame.low_sample_bits)},
+      {"mosaic_phase_ratio",
+       or_null(first_frame.mosaic_phase_ratio > 0, first_frame.mosaic_phase_ratio)},
+      {"bayer_doubt", or_null(!first_frame.other_bayer.empty(), first_frame.other_bayer)},
       {"pose_source", pose_source},
       {"pose", pose_details},
       {"other_cameras", cameras},

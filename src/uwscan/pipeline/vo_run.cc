@@ -180,16 +180,9 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       ++summary.unreadable;
       warn("frame " + std::to_string(entry.index) + ": cannot read " + entry.file);
     } else if (summary.unreadable == i) {  // the first frame read
-      const double ratio = rig_camera.bayer == "none" ? MosaicPhaseRatio(raw) : std::nan("");
-      if (ratio > kMosaicPhaseRatio) {
-        warn(MosaicWarning(dataset.dir / entry.file, ratio) +
-             "; set the camera's bayer (rggb, bggr, grbg or gbrg) in rig.yaml");
-      }
-      const int low_bits = job.sample_bits == 16 ? LowSampleBits(raw) : 0;
-      if (low_bits > 0) warn(LowSampleBitsWarning(dataset.dir / entry.file, low_bits));
-      const std::string other = OtherBayerDiagonal(raw, rig_camera.bayer);
-      if (!other.empty())
-        warn(BayerDiagonalWarning(dataset.dir / entry.file, rig_camera.bayer, other));
+      const FrameDoubts doubts = InspectFrame(raw, dataset.dir / entry.file, rig_camera.bayer,
+                                              /*from_rig=*/true, job.sample_bits);
+      for (const std::string& warning : doubts.Warnings()) warn(warning);
     }
     cv::Mat mask;
     if (job.mask_laser && !raw.empty() && raw.cols == rig_camera.width &&
