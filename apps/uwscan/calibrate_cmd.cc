@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <optional>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "commands.h"
 #include "uwscan/calib/calibration_pipeline.h"
@@ -67,6 +69,20 @@ CornerDetector ParseDetector(const std::string& name) {
   return *detector;
 }
 
+// A report written among the board images (`--report` the --images or
+// --water folder) puts its PNG there, and the next calibration of that
+// folder reads it as a board image and fails on its size.
+void RefuseReportAmongImages(const std::string& report,
+                             const std::vector<std::pair<const char*, std::string>>& folders) {
+  std::error_code error;
+  for (const auto& [option, folder] : folders) {
+    UWS_USAGE_CHECK(report.empty() || folder.empty() || !fs::exists(report, error) ||
+                        !fs::exists(folder, error) || !fs::equivalent(report, folder, error),
+                    "--report ", report, " is the ", option,
+                    " folder: its PNG would be read as a board image; give another folder");
+  }
+}
+
 void RunCalibrateCamera(const CameraArgs& args) {
   CameraPipelineOptions options;
   options.board = BoardSpec::Parse(args.board);
@@ -106,6 +122,7 @@ void RunCalibrateCamera(const CameraArgs& args) {
   }
   // The report's folder is made before the (long) calibration, so that a
   // place it cannot be made fails at once; it goes again if the run fails.
+  RefuseReportAmongImages(args.report, {{"--images", args.images}, {"--water", args.water}});
   std::optional<OutputFolder> report_folder;
   if (!args.report.empty()) report_folder.emplace(args.report);
   const CameraPipelineResult out = RunCameraCalibration(options);
@@ -172,6 +189,7 @@ void RunCalibrateLaser(const LaserArgs& args) {
                               Eigen::Vector3d(v[3], v[4], v[5]).normalized()};
     options.servo_angles_rad = ReadServoAngles(args.servo_angles);
   }
+  RefuseReportAmongImages(args.report, {{"--images", args.images}});
   std::optional<OutputFolder> report_folder;  // made first, as for the camera
   if (!args.report.empty()) report_folder.emplace(args.report);
   const LaserPipelineResult out = RunLaserCalibration(camera, options);

@@ -45,6 +45,10 @@ if [[ -f $DATA/left01.jpg ]]; then
   expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/five" \
     --board 7x5:0.025 --out "$TMP/bad.yaml" --report "$TMP/failed/report"
   [ ! -e "$TMP/failed" ] || fail "a failed calibration left its report folder"
+  # A report among the board images would put its PNG there, read as a board next time.
+  expect 2 "is the --images folder: its PNG would be read as a board image" -- "$UWSCAN" \
+    calibrate camera --images "$TMP/five" --board 9x6:0.025 --out "$TMP/r.yaml" --report "$TMP/five/"
+  [ ! -e "$TMP/five/calibration.json" ] && [ ! -e "$TMP/r.yaml" ] || fail "a report among the images"
   # Wrong board size: no board anywhere.
   expect 1 "check --board" -- "$UWSCAN" calibrate camera --images "$TMP/five" \
     --board 7x5:0.025 --out "$TMP/bad.yaml"
