@@ -195,6 +195,10 @@ grep -q -- "--out $work/ds/groundtruth.tum is an input" "$work/err" || fail "vo 
 expect_status 2 "evaluate --json onto the ground truth" "$uwscan" evaluate --dataset "$work/ds" \
   --trajectory "$work/ds/groundtruth.tum" --json "$work/ds/groundtruth.tum"
 [ "$(cksum <"$work/ds/groundtruth.tum")" = "$truth_sum" ] || fail "the ground truth was overwritten"
+mkdir -p "$work/again" && cp "$work/ds/groundtruth.tum" "$work/again/trajectory.tum"
+expect_status 2 "reconstruct --out holding its --poses" "$uwscan" reconstruct --dataset "$work/ds" \
+  --out "$work/again" --poses "$work/again/trajectory.tum" --quiet
+[ "$(cksum <"$work/again/trajectory.tum")" = "$truth_sum" ] || fail "--poses replaced by the output"
 
 # The small dataset's raw RGGB frames with another pattern in rig.yaml, reconstructed on the true
 # poses: reconstruct_as NAME PATTERN (into $work/NAME.out).

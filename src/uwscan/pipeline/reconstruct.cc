@@ -435,6 +435,14 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
                                  std::unique_ptr<fusion::PoseProvider> provider) {
   job.Check();
   UWS_CHECK(fs::is_directory(job.dataset), job.dataset.string(), ": no such dataset folder");
+  // An --out that holds the --poses file (a trajectory.tum from an earlier
+  // run) or is the dataset would have it replaced by this run's outputs.
+  std::vector<fs::path> inputs = {job.dataset / "frames.csv", job.dataset / "rig.yaml",
+                                  job.dataset / "groundtruth.tum"};
+  if (job.poses_file) inputs.push_back(*job.poses_file);
+  for (const char* output :
+       {"trajectory.tum", "report.json", "cloud.ply", "cloud_uncompensated.ply"})
+    RefuseOutputOntoInput("--out", job.out / output, inputs);
   InterruptibleScope interruptible;
   OutputFolder out(job.out);  // removed again if the run fails and left it empty
   if (provider || job.poses_file) {
