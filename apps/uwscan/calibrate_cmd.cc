@@ -74,11 +74,8 @@ CornerDetector ParseDetector(const std::string& name) {
 // folder reads it as a board image and fails on its size.
 void RefuseReportAmongImages(const std::string& report,
                              const std::vector<std::pair<const char*, std::string>>& folders) {
-  std::error_code error;
   for (const auto& [option, folder] : folders) {
-    UWS_USAGE_CHECK(report.empty() || folder.empty() || !fs::exists(report, error) ||
-                        !fs::exists(folder, error) || !fs::equivalent(report, folder, error),
-                    "--report ", report, " is the ", option,
+    UWS_USAGE_CHECK(!SameExistingPath(report, folder), "--report ", report, " is the ", option,
                     " folder: its PNG would be read as a board image; give another folder");
   }
 }

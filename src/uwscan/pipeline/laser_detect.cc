@@ -100,13 +100,9 @@ void WriteImageAtomic(const fs::path& path, const cv::Mat& image) {
 // images' own folder replaced the frames with their drawings, and an --out
 // or --profiles onto frames.csv or rig.yaml would replace the dataset's.
 void CheckOutputsSpareInputs(const LaserDetectJob& job, const std::vector<fs::path>& images) {
-  std::error_code error;
-  const auto same = [&error](const fs::path& a, const fs::path& b) {
-    return fs::exists(a, error) && fs::exists(b, error) && fs::equivalent(a, b, error);
-  };
   if (job.overlay_dir) {
     for (const fs::path& image : images) {
-      UWS_USAGE_CHECK(!same(image.parent_path(), *job.overlay_dir), "--overlay ",
+      UWS_USAGE_CHECK(!SameExistingPath(image.parent_path(), *job.overlay_dir), "--overlay ",
                       job.overlay_dir->string(), " is the folder of the images (", image.string(),
                       "): the overlays would overwrite them");
     }

@@ -99,15 +99,17 @@ void StagedFolder::Commit() {
   committed_ = true;
 }
 
+bool SameExistingPath(const std::filesystem::path& a, const std::filesystem::path& b) {
+  std::error_code error;
+  return std::filesystem::exists(a, error) && std::filesystem::exists(b, error) &&
+         std::filesystem::equivalent(a, b, error);
+}
+
 void RefuseOutputOntoInput(const std::string& option, const std::filesystem::path& output,
                            const std::vector<std::filesystem::path>& inputs) {
-  std::error_code error;
-  if (!std::filesystem::exists(output, error)) return;
   for (const auto& input : inputs) {
-    UWS_USAGE_CHECK(!(std::filesystem::exists(input, error) &&
-                      std::filesystem::equivalent(input, output, error)),
-                    option, " ", output.string(), " is an input (", input.string(),
-                    "): it would be overwritten");
+    UWS_USAGE_CHECK(!SameExistingPath(input, output), option, " ", output.string(),
+                    " is an input (", input.string(), "): it would be overwritten");
   }
 }
 

@@ -75,6 +75,10 @@ class StagedFolder {
 // Writes a whole string atomically.
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents);
 
+// Whether `a` and `b` both exist and are the same file or folder, by any
+// path (false where either cannot be looked at).
+bool SameExistingPath(const std::filesystem::path& a, const std::filesystem::path& b);
+
 // Throws uwscan::UsageError, naming `option`, if `output` is one of the
 // existing `inputs` (the same file by any path): writing it would replace
 // what the command reads, such as a dataset's frames.csv or a frame.
