@@ -3,11 +3,29 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 
 #include "uwscan/util/error.h"
 
 namespace uwscan {
+namespace {
+
+// Why a write failed, as far as can be told afterwards: the stream keeps no
+// error code, but a full disk shows in the free space, and a full disk or a
+// file-size limit (ulimit -f) leave their errno behind.
+std::string WriteFailureReason(const std::filesystem::path& path, int error) {
+  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+  std::error_code space_error;
+  const std::filesystem::space_info space = std::filesystem::space(folder, space_error);
+  if (!space_error && space.available < (std::uintmax_t{1} << 20)) return ": the disk is full";
+  if (error == ENOSPC || error == EFBIG || error == EDQUOT || error == EIO) {
+    return std::string(": ") + std::strerror(error);
+  }
+  return "";
+}
+
+}  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path path, bool binary) : path_(std::move(path)) {
   temp_path_ = path_;
@@ -35,7 +53,9 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::Commit() {
   out_.flush();
-  UWS_CHECK(out_.good(), path_.string(), ": write failed");
+  const int write_error = errno;
+  UWS_CHECK(out_.good(), path_.string(), ": write failed",
+            WriteFailureReason(temp_path_, write_error));
   out_.close();
   std::error_code error;
   std::filesystem::rename(temp_path_, path_, error);

@@ -1,8 +1,12 @@
 #include "uwscan/util/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -59,6 +63,30 @@ TEST_F(AtomicOutputTest, AMissingFolderIsNamed) {
   EXPECT_EQ(message(root_ / "file/e.json"), (root_ / "file/e.json").string() +
                                                 ": cannot write: the folder " +
                                                 (root_ / "file").string() + " is not a folder");
+}
+
+// A write that fails says why (it said only "write failed"): here a file-size
+// limit, as `ulimit -f` sets, in place of a disk that fills up.
+TEST_F(AtomicOutputTest, AFailedWriteSaysWhy) {
+  rlimit old_limit{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);  // EFBIG, not a kill
+  rlimit limit = old_limit;
+  limit.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+  std::string message = "no error";
+  const fs::path path = root_ / "big.ply";
+  try {
+    AtomicFile file(path);
+    file.stream() << std::string(1 << 16, 'x');
+    file.Commit();
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_EQ(message, path.string() + ": write failed: " + std::strerror(EFBIG));
+  EXPECT_TRUE(fs::is_empty(root_));  // neither the file nor its temporary
 }
 
 // An output onto one of the inputs, by any path, is refused by option.
