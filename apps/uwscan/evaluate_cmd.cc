@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "commands.h"
@@ -49,6 +51,33 @@ void PrintCloudEvaluation(const ReconstructionEvaluation& evaluation) {
     std::printf("(a surface with fewer than %ld points is counted, not measured)\n",
                 SurfaceAccuracy::kMinPoints);
   }
+}
+
+std::string FileText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The dataset a result was reconstructed from, as its report.json names it,
+// when that is another folder with another ground truth (evaluating a
+// result against the wrong dataset gives figures that mean nothing, and
+// nothing else tells: simulated scans share their timestamps). Empty
+// otherwise, also when the folder is gone or was copied (same truth).
+std::string OtherDatasetOfResult(const fs::path& result, const fs::path& dataset) {
+  std::ifstream in(result / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!report.is_object() || !report.contains("dataset") || !report["dataset"].is_string()) {
+    return "";
+  }
+  const fs::path made_from = report["dataset"].get<std::string>();
+  std::error_code error;
+  if (!fs::exists(made_from / "groundtruth.tum", error) ||
+      fs::equivalent(made_from, dataset, error)) {
+    return "";
+  }
+  return FileText(made_from / "groundtruth.tum") == FileText(dataset / "groundtruth.tum")
+             ? ""
+             : made_from.string();
 }
 
 }  // namespace
@@ -122,6 +151,15 @@ void RegisterEvaluateCommand(CLI::App& app) {
     if (!json_path->empty()) {
       RefuseOutputOntoInput("--json", *json_path,
                             {estimate_path, truth_path, fs::path(*dataset) / "scene.yaml"});
+    }
+    if (!result->empty()) {
+      const std::string made_from = OtherDatasetOfResult(*result, *dataset);
+      if (!made_from.empty()) {
+        std::fprintf(stderr,
+                     "uwscan: warning: %s was reconstructed from %s (its report.json), whose "
+                     "ground truth is not %s's: these figures compare two different scans\n",
+                     result->c_str(), made_from.c_str(), dataset->c_str());
+      }
     }
     const TumTrajectory estimate = ReadTumTrajectory(estimate_path);
     const TumTrajectory truth = ReadTumTrajectory(truth_path);

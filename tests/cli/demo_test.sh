@@ -132,4 +132,13 @@ rm "$dir/real/scene.yaml"
   fail "evaluate --result on a dataset without a scene: $(cat "$dir/err")"
 grep -q "^ATE" "$dir/out" && grep -q "^clouds: not evaluated ($dir/real has no scene.yaml" "$dir/out" ||
   fail "no scene: $(cat "$dir/out")"
+grep -q "warning" "$dir/err" && fail "a copy of the dataset taken for another: $(cat "$dir/err")"
+# A result evaluated against another scan (simulated scans share their
+# timestamps, so nothing else tells): its report.json names the dataset it
+# was made from, and the two ground truths differ.
+"$bin" simulate tank-target --out "$dir/other" --frames 5 --width 320 --height 240 --seed 7 \
+  >/dev/null 2>&1 || fail "simulate another scan"
+"$bin" evaluate --dataset "$dir/other" --result "$dir/demo/result" >/dev/null 2>"$dir/err"
+grep -q "^uwscan: warning: $dir/demo/result was reconstructed from $dir/demo/dataset (its report.json), whose ground truth is not $dir/other's" \
+  "$dir/err" || fail "a result evaluated against another scan: $(cat "$dir/err")"
 exit 0
