@@ -106,8 +106,12 @@ std::shared_ptr<const fusion::SimulatorTruth> LoadSimulatorTruth(const fs::path&
 
 // --poses: the camera's poses from the external trajectory, put on the
 // camera's clock and moved from the body it logs (an INS's) to the camera;
-// the name says how it was read.
-std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job) {
+// the name says how it was read. A file that covers none of the frames'
+// times (a log on another clock: epoch seconds against a camera's from 0) is
+// refused before the frames are read, with the offset that would align the
+// two starts.
+std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job,
+                                                    const std::vector<FrameRecord>& frames) {
   TumTrajectory trajectory = ReadTumTrajectory(*job.poses_file, 1e-6);
   std::vector<StampedPose>& poses = trajectory.poses;
   std::vector<std::pair<double, double>> gaps;  // no pose is interpolated across one
@@ -127,8 +131,22 @@ std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job) {
       how += std::string(how.empty() ? "" : "; ") + "the camera in its body's frame";
     name += " (" + how + ")";
   }
-  return std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name, 0.05,
-                                                          std::move(gaps));
+  constexpr double kMaxExtrapolationS = 0.05;
+  if (!poses.empty() && !frames.empty()) {
+    const double first = poses.front().timestamp_s, last = poses.back().timestamp_s;
+    const double frames_first = frames.front().timestamp_s;
+    const double frames_last = frames.back().timestamp_s;
+    UWS_CHECK(
+        first - kMaxExtrapolationS <= frames_last && frames_first <= last + kMaxExtrapolationS,
+        name, ": its poses (", fmt::format("{:.3f}-{:.3f} s", first, last),
+        ") cover none of the frames' times (", job.dataset.string(), "/frames.csv, ",
+        fmt::format("{:.3f}-{:.3f} s", frames_first, frames_last),
+        "): a log on another clock? --poses-time-offset ",
+        fmt::format("{:.6f}", frames_first - first + job.poses_time_offset_s),
+        " would align the two starts");
+  }
+  return std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name,
+                                                          kMaxExtrapolationS, std::move(gaps));
 }
 
 // report.json of a run into job.out.
@@ -196,7 +214,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
           ? FindOtherCameras(job.dataset, rig, 0, job.max_frames)
           : std::vector<OtherCamera>{};
 
-  if (!provider && job.poses_file) provider = ExternalPoses(job);
+  if (!provider && job.poses_file) provider = ExternalPoses(job, frames);
   const fusion::SelfReferencedPoseProvider* self_referenced = nullptr;
   if (!provider) {
     fusion::SelfReferencedOptions options = job.self_referenced;

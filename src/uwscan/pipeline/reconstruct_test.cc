@@ -128,6 +128,23 @@ TEST_F(ReconstructTest, AnInsTrajectoryOfAnotherBodyAndClock) {
   EXPECT_LT(evaluation.compensated.point_error_rms_m, 0.002);
   job.poses_body_from_camera.reset();
   EXPECT_GT(run("out_ins_as_camera"), 0.3);
+
+  // Without the offset its poses cover none of the frames (they ran to the
+  // end and failed with "no frame got a pose"): refused before any frame is
+  // read, with the offset that aligns the two starts, and no output.
+  job.poses_time_offset_s = 0.0;
+  job.out = root_ / "out_ins_other_clock";
+  std::string message = "no error";
+  try {
+    RunReconstruct(job);
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("ins_body.tum: its poses (-12.500-"), std::string::npos) << message;
+  EXPECT_NE(message.find("cover none of the frames' times"), std::string::npos) << message;
+  EXPECT_NE(message.find("--poses-time-offset 12.500000 would align"), std::string::npos)
+      << message;
+  EXPECT_FALSE(fs::exists(job.out));
 }
 
 // Frames a recorder dropped (rows missing from frames.csv) are counted
