@@ -232,7 +232,9 @@ std::vector<std::filesystem::path> ImagesIn(const std::filesystem::path& folder)
   std::vector<std::filesystem::path> images;
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
-    if (!entry.is_regular_file(error)) continue;
+    // Hidden files are not frames: macOS's "._NAME.png" beside each image
+    // copied to a USB disk, an editor's backup.
+    if (!entry.is_regular_file(error) || entry.path().filename().string().front() == '.') continue;
     std::string ext = entry.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
