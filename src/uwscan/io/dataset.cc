@@ -95,6 +95,8 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
       record.laser_on = on == "1";
     }
     record.file = fields[2];
+    // A frames.csv written on Windows separates folders with '\'.
+    std::replace(record.file.begin(), record.file.end(), '\\', '/');
     UWS_CHECK(!record.file.empty(), path.string(), ":", number, ": empty file name");
     UWS_CHECK(std::isfinite(record.timestamp_s) &&
                   (!record.laser_angle_rad || std::isfinite(*record.laser_angle_rad)),

@@ -53,6 +53,14 @@ TEST_F(FramesCsvTest, RoundTripsAngleAndLaserOn) {
   EXPECT_FALSE(plain[0].laser_on.has_value());  // always on
 }
 
+// A frames.csv written on Windows separates folders with '\': its frames
+// are found (every one was "no such image").
+TEST_F(FramesCsvTest, WindowsFolderSeparatorsAreRead) {
+  const auto frames = ReadFramesCsv(Write("index,timestamp_s,file\n0,0,frames\\000000.png\n"));
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].file, "frames/000000.png");
+}
+
 TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
   const auto message = [&](const std::string& text) {
     try {
