@@ -10,6 +10,7 @@
 #include "uwscan/calib/calibration_report.h"
 #include "uwscan/calib/laser_points.h"
 #include "uwscan/io/image.h"
+#include "uwscan/util/csv.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -226,6 +227,7 @@ std::map<std::string, double> ReadServoAngles(const std::filesystem::path& path)
   std::map<std::string, double> angles;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (number == 1) StripByteOrderMark(line);
     if (line.empty() || line[0] == '#') continue;
     const size_t comma = line.find(',');
     char* end = nullptr;

@@ -108,6 +108,13 @@ TEST(LaserImagePipeline, ReadsServoAngles) {
   ASSERT_EQ(angles.size(), 2u);
   EXPECT_DOUBLE_EQ(angles.at("000.png"), -6.0 * M_PI / 180.0);
   EXPECT_DOUBLE_EQ(angles.at("001.png"), 3.5 * M_PI / 180.0);
+  // Saved by a Windows editor, without a header: the byte order mark is not
+  // part of the first image's name.
+  std::ofstream(path) << "\xEF\xBB\xBF"
+                         "000.png,-6\n";
+  const auto marked = ReadServoAngles(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(marked.count("000.png"), 1u);
 }
 
 // An angle that is no number of degrees, or a second one for an image: the

@@ -43,6 +43,7 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
   UWS_CHECK(in.good(), path.string(), ": cannot open for reading");
   std::string line;
   UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(), ": empty file");
+  StripByteOrderMark(line);
   if (!line.empty() && line.back() == '\r') line.pop_back();
   // index,timestamp_s,file then optional laser_angle_rad and laser_on, in
   // that order.

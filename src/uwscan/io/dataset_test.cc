@@ -61,6 +61,14 @@ TEST_F(FramesCsvTest, WindowsFolderSeparatorsAreRead) {
   EXPECT_EQ(frames[0].file, "frames/000000.png");
 }
 
+// Windows editors and Excel save text with a UTF-8 byte order mark; the
+// header was refused with the mark invisible in the message.
+TEST_F(FramesCsvTest, AByteOrderMarkIsSkipped) {
+  const auto frames = ReadFramesCsv(Write("\xEF\xBB\xBFindex,timestamp_s,file\n0,0,a.png\n"));
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].file, "a.png");
+}
+
 TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
   const auto message = [&](const std::string& text) {
     try {

@@ -6,6 +6,7 @@
 
 #include "uwscan/io/timestamps.h"
 #include "uwscan/util/atomic_file.h"
+#include "uwscan/util/csv.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -17,7 +18,7 @@ TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& sou
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
-    ++line_number;
+    if (++line_number == 1) StripByteOrderMark(line);
     const size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos) continue;
     if (line[first] == '#') {

@@ -33,6 +33,17 @@ TEST(TumTrajectory, RoundTripsPosesAndGaps) {
   EXPECT_EQ(TumTrajectoryToText(back), text);
 }
 
+// A file saved by a Windows editor starts with a UTF-8 byte order mark; its
+// first line was "expected 8 numbers".
+TEST(TumTrajectory, AByteOrderMarkIsSkipped) {
+  for (const char* first : {"# t x y z qx qy qz qw\n", ""}) {
+    const std::string text = std::string("\xEF\xBB\xBF") + first + "1 0 0 0 0 0 0 1\n";
+    const TumTrajectory trajectory = ParseTumTrajectory(text, "bom.tum");
+    ASSERT_EQ(trajectory.poses.size(), 1u);
+    EXPECT_DOUBLE_EQ(trajectory.poses[0].timestamp_s, 1.0);
+  }
+}
+
 TEST(TumTrajectory, ErrorsNameTheLine) {
   try {
     ParseTumTrajectory("# c\n0 1 2 3 0 0 0 1\n1 2 3\n", "gt.tum");

@@ -27,6 +27,10 @@ std::vector<std::string> SplitLine(const std::string& line) {
 
 }  // namespace
 
+void StripByteOrderMark(std::string& first_line) {
+  if (first_line.rfind("\xEF\xBB\xBF", 0) == 0) first_line.erase(0, 3);
+}
+
 CsvTable ReadNumericCsv(const std::filesystem::path& path,
                         const std::vector<std::string>& columns) {
   std::ifstream in(path);
@@ -34,7 +38,7 @@ CsvTable ReadNumericCsv(const std::filesystem::path& path,
   std::string line;
   UWS_CHECK(static_cast<bool>(std::getline(in, line)), path.string(),
             ": empty file (expected a header line)");
-  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
+  StripByteOrderMark(line);
   const std::vector<std::string> header = SplitLine(line);
   std::vector<int> indices;
   for (const std::string& name : columns) {

@@ -18,6 +18,10 @@ struct CsvTable {
 // Every error names the file, and the line or the missing column.
 CsvTable ReadNumericCsv(const std::filesystem::path& path, const std::vector<std::string>& columns);
 
+// Removes a UTF-8 byte order mark from the start of a file's first line
+// (Windows editors and Excel save text with one).
+void StripByteOrderMark(std::string& first_line);
+
 // Writes atomically with 17 significant digits (round trips doubles exactly).
 void WriteNumericCsv(const std::filesystem::path& path, const CsvTable& table);
 
