@@ -31,6 +31,12 @@ TumTrajectory ParseTumTrajectory(const std::string& text, const std::string& sou
       }
       continue;
     }
+    // A CSV (EuRoC's ground truth: nanoseconds, then qw before qx) read
+    // as TUM failed with "expected 8 numbers" and no hint.
+    UWS_CHECK(line.find(',') == std::string::npos, source, ":", line_number,
+              ": commas: a TUM trajectory's fields `t x y z qx qy qz qw` are separated by "
+              "spaces (a CSV trajectory such as EuRoC's, in nanoseconds and with qw first, "
+              "converts with `evo_traj euroc FILE --save_as_tum`)");
     std::istringstream fields(line);
     double v[8];
     for (double& value : v) {

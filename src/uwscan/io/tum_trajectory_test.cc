@@ -54,6 +54,17 @@ TEST(TumTrajectory, ErrorsNameTheLine) {
   EXPECT_THROW(ParseTumTrajectory("0 1 2 3 0 0 0 2\n", "x"), Error);    // not unit
   EXPECT_THROW(ParseTumTrajectory("0 1 2 3 0 0 0 1 9\n", "x"), Error);  // extra field
   EXPECT_THROW(ReadTumTrajectory("/nonexistent/gt.tum"), Error);
+  // A CSV trajectory (EuRoC's): the line and the separator are named.
+  try {
+    ParseTumTrajectory(
+        "#timestamp,p_x,p_y,p_z,q_w,q_x,q_y,q_z\n1403636579758555392,4.6,-1.8,0.8,"
+        "0.53,-0.15,-0.83,-0.08\n",
+        "euroc.csv");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("euroc.csv:2: commas: a TUM trajectory's fields", 0), 0u)
+        << e.what();
+  }
 }
 
 // Out of order (two rows swapped, a repeated time): refused by both
