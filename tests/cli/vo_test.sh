@@ -174,4 +174,17 @@ rm "$dir/bad/groundtruth.tum"
 "$bin" evaluate --dataset "$dir/bad" --trajectory "$dir/b.tum" 2>"$dir/err"
 [ $? -eq 1 ] || fail "evaluate without ground truth: want 1"
 grep -q "groundtruth.tum" "$dir/err" || fail "evaluate error does not name groundtruth.tum"
+# A black scan (an exposure far too short; a lens cap, the lights off): the
+# first warning of vo, and the first reason reconstruct gives, name the
+# first frame as black (they said only that the odometry never started, or
+# that no laser line was found).
+"$bin" simulate tank-target --out "$dir/black" --frames 6 --width 320 --height 240 \
+  --exposure-ms 0.001 --quiet >/dev/null 2>&1 || fail "simulate a black scan"
+"$bin" vo --dataset "$dir/black" --out "$dir/black.tum" >/dev/null 2>"$dir/err"
+head -n 1 "$dir/err" | grep -q "^uwscan: warning: $dir/black/frames/000000.png: a black frame: 0 % of its samples" ||
+  fail "vo on a black scan: $(cat "$dir/err")"
+"$bin" reconstruct --dataset "$dir/black" --out "$dir/black_out" >/dev/null 2>"$dir/err"
+[ $? -eq 1 ] || fail "reconstruct on a black scan: want 1"
+sed -n 2p "$dir/err" | grep -q "^  $dir/black/frames/000000.png: a black frame" ||
+  fail "reconstruct on a black scan: $(cat "$dir/err")"
 echo "vo CLI tests passed"

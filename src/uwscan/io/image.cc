@@ -172,7 +172,16 @@ FrameDoubts InspectFrame(const cv::Mat& image, const std::filesystem::path& file
   if (ratio > kMosaicPhaseRatio) doubts.mosaic_phase_ratio = ratio;
   if (sample_bits == 16) doubts.low_sample_bits = LowSampleBits(image);
   doubts.other_bayer = OtherBayerDiagonal(image, bayer);
+  doubts.lit_share = LitShare(image);
   return doubts;
+}
+
+double LitShare(const cv::Mat& image) {
+  if (image.empty()) return 1.0;
+  const double full_scale = image.depth() == CV_16U ? 65535.0 : 255.0;
+  cv::Mat lit;
+  cv::compare(image.reshape(1), 0.02 * full_scale, lit, cv::CMP_GT);
+  return static_cast<double>(cv::countNonZero(lit)) / static_cast<double>(lit.total());
 }
 
 std::vector<std::string> FrameDoubts::Warnings() const {
@@ -195,6 +204,15 @@ std::vector<std::string> FrameDoubts::Warnings() const {
                        " times darker than the features' and the clipping's thresholds take it "
                        "to be; give --sample-bits " +
                        bits);
+  }
+  // Samples in the low bits are dark for a reason already said.
+  if (lit_share < kBlackFrameLitShare && low_sample_bits == 0) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%.3g", 100.0 * lit_share);
+    warnings.push_back(file.string() + ": a black frame: " + share +
+                       " % of its samples are above 2 % of full scale (a lens cap, the lights "
+                       "off, or an exposure or gain far too low): no texture to track and no "
+                       "laser line to find");
   }
   if (mosaic_phase_ratio > 0) {
     char factor[32];

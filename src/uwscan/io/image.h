@@ -52,6 +52,12 @@ void ScaleLowBitSamples(cv::Mat* image, int sample_bits, const std::filesystem::
 // (A 14-bit camera's would be a quarter of full scale: too like a dark
 // 16-bit frame to say.)
 int LowSampleBits(const cv::Mat& image);
+// The share of an image's samples (all channels) above 2 % of full scale.
+// A frame with almost none (under kBlackFrameLitShare) is black: a lens
+// cap, the lights off, an exposure far too short. A laser line alone, in
+// a dark sea, lights about 0.4 % of a frame's pixels.
+double LitShare(const cv::Mat& image);
+constexpr double kBlackFrameLitShare = 1e-3;
 // A camera frame as read, made what the pipeline takes: an alpha channel
 // (PNGs exported as RGBA) dropped, low-bit samples scaled up
 // (ScaleLowBitSamples). Throws uwscan::Error naming `file` for another
@@ -61,8 +67,8 @@ void PrepareFrame(cv::Mat* image, int sample_bits, const std::filesystem::path& 
 void CheckSampleBitsOption(int sample_bits);
 
 // What a camera's first frame says of how it is read: a raw mosaic taken for
-// a mono image, samples in the low bits read as stored, or the greens off
-// the rig's Bayer pattern.
+// a mono image, samples in the low bits read as stored, the greens off the
+// rig's Bayer pattern, or a black frame.
 struct FrameDoubts {
   std::filesystem::path file;       // the frame looked at (empty: none)
   std::string bayer;                // as it was read ("none": a mono camera)
@@ -70,6 +76,7 @@ struct FrameDoubts {
   double mosaic_phase_ratio = 0.0;  // MosaicPhaseRatio, if above kMosaicPhaseRatio
   int low_sample_bits = 0;          // LowSampleBits, if read as stored
   std::string other_bayer;          // OtherBayerDiagonal
+  double lit_share = 1.0;           // LitShare (not looked at: 1)
   // One line for each, naming the frame and what to set.
   std::vector<std::string> Warnings() const;
 };

@@ -380,6 +380,34 @@ TEST(LowSampleBits, TwelveBitSamplesInTheLowBitsAreFoundAndScaledUp) {
 
 // Frames exported as RGBA PNGs lose their alpha channel; other channel
 // counts are refused by file.
+// A black first frame (a lens cap, the lights off) is said, naming it; the
+// scan used to end with "no laser line in 100 % of the frames" or "the
+// odometry never started". A laser line alone in the dark is not black.
+TEST(LitShare, ABlackFrameIsSaidAndALaserLineInTheDarkIsNot) {
+  const auto black_warning = [](const cv::Mat& image) {
+    const FrameDoubts doubts = InspectFrame(image, "f/000000.png", "none", true, 16);
+    for (const std::string& warning : doubts.Warnings()) {
+      if (warning.rfind("f/000000.png: a black frame: ", 0) == 0) return true;
+    }
+    return false;
+  };
+  cv::Mat dark(240, 320, CV_8UC1, cv::Scalar(3));  // 1.2 % of full scale
+  EXPECT_DOUBLE_EQ(LitShare(dark), 0.0);
+  EXPECT_TRUE(black_warning(dark));
+  cv::Mat line = dark.clone();
+  line.colRange(150, 152).setTo(200);  // 0.6 % of the pixels
+  EXPECT_NEAR(LitShare(line), 2.0 / 320, 1e-12);
+  EXPECT_FALSE(black_warning(line));
+  // 16-bit: the same 2 % of 65535.
+  EXPECT_TRUE(black_warning(cv::Mat(240, 320, CV_16UC1, cv::Scalar(1000))));
+  EXPECT_FALSE(black_warning(cv::Mat(240, 320, CV_16UC1, cv::Scalar(2000))));
+  // Samples in a 16-bit frame's low bits are dark for a reason said apart.
+  cv::Mat low(240, 320, CV_16UC1, cv::Scalar(1001));
+  const FrameDoubts doubts = InspectFrame(low, "f/000000.png", "none", true, 16);
+  EXPECT_EQ(doubts.low_sample_bits, 10);
+  EXPECT_FALSE(black_warning(low));
+}
+
 TEST(PrepareFrame, DropsAnAlphaChannelAndNamesOtherLayouts) {
   cv::Mat bgr(8, 10, CV_8UC3, cv::Scalar(10, 20, 30)), bgra;
   cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);

@@ -178,7 +178,9 @@ std::optional<int> ReconstructReport::SmallerTrackingWidth() const {
 }
 
 std::vector<std::string> ReconstructReport::Warnings() const {
-  std::vector<std::string> warnings;
+  // How the frames are read (a black frame, a mosaic taken for mono, ...)
+  // first: it explains what follows.
+  std::vector<std::string> warnings = first_frame.Warnings();
   const auto percent = [](double part, double whole) {
     return std::to_string(static_cast<int>(std::lround(100.0 * part / std::max(whole, 1.0))));
   };
@@ -268,7 +270,6 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        std::to_string(static_detections_removed) +
                        " in all (--keep-static-detections keeps them)");
   }
-  for (const std::string& warning : first_frame.Warnings()) warnings.push_back(warning);
   if (frames_clipping_examined > 0 &&
       frames_with_clipped_scene >= laser::kClippedFramesToWarn * frames_clipping_examined) {
     warnings.push_back(laser::ClippedSceneWarning(frames_with_clipped_scene, ClippedSceneShare()));
@@ -441,6 +442,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"mosaic_phase_ratio",
        or_null(first_frame.mosaic_phase_ratio > 0, first_frame.mosaic_phase_ratio)},
       {"bayer_doubt", or_null(!first_frame.other_bayer.empty(), first_frame.other_bayer)},
+      {"first_frame_lit_share", first_frame.lit_share},
       {"pose_source", pose_source},
       {"pose", pose_details},
       {"other_cameras", cameras},

@@ -169,6 +169,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   const bool progress = !job.quiet && isatty(STDERR_FILENO);
   const int total = job.max_frames == 0 ? int(dataset.frames.size())
                                         : std::min(job.max_frames, int(dataset.frames.size()));
+  size_t after_first_frame = 0;  // warnings up to the first frame's doubts
   auto warn = [&](const std::string& message) {
     if (summary.warnings.size() < 20) summary.warnings.push_back(message);
   };
@@ -183,6 +184,7 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       const FrameDoubts doubts = InspectFrame(raw, dataset.dir / entry.file, rig_camera.bayer,
                                               /*from_rig=*/true, job.sample_bits);
       for (const std::string& warning : doubts.Warnings()) warn(warning);
+      after_first_frame = summary.warnings.size();
     }
     cv::Mat mask;
     if (job.mask_laser && !raw.empty() && raw.cols == rig_camera.width &&
@@ -315,8 +317,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
         "monocular odometry starts once the features have moved {:g} % of the image width (the "
         "camera moving sideways); `uwscan reconstruct` starts from the laser's ranges instead",
         100.0 * odometry_options.init_parallax_fraction);
-    summary.warnings.insert(
-        summary.warnings.begin(),
+    summary.warnings.insert(  // after how the frames are read, which may say why
+        summary.warnings.begin() + static_cast<std::ptrdiff_t>(after_first_frame),
         summary.posed == 0 ? "the odometry never started: " + why
                            : fmt::format("{} of the {} frames ({:.0f} %) got no pose while the "
                                          "odometry waited to start: {}",
