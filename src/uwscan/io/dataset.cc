@@ -29,6 +29,7 @@ FrameGaps FindFrameGaps(const std::vector<FrameRecord>& frames) {
     steps.push_back(frames[i].timestamp_s - frames[i - 1].timestamp_s);
   const double median = Median(steps);
   if (!(median > 0)) return found;
+  found.median_step_s = median;
   for (double step : steps) {
     if (!(step > 1.5 * median)) continue;
     ++found.gaps;
@@ -36,6 +37,14 @@ FrameGaps FindFrameGaps(const std::vector<FrameRecord>& frames) {
     found.longest_s = std::max(found.longest_s, step);
   }
   return found;
+}
+
+std::string SlowFramesWarning(const FrameGaps& gaps, const std::string& csv) {
+  if (!(gaps.median_step_s > kSlowFrameStepS)) return "";
+  return fmt::format(
+      "{}: the frames are {:.4g} s apart (median): {:.3g} frames a second; if timestamp_s is in "
+      "milliseconds, divide it by 1000",
+      csv, gaps.median_step_s, 1.0 / gaps.median_step_s);
 }
 
 std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {

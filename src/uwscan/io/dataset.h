@@ -37,9 +37,17 @@ double MeanFrameInterval(const std::vector<FrameRecord>& frames);
 struct FrameGaps {
   int gaps = 0;
   int missing = 0;
-  double longest_s = 0.0;  // the longest such step
+  double longest_s = 0.0;      // the longest such step
+  double median_step_s = 0.0;  // the frame period (0: fewer than three frames)
 };
 FrameGaps FindFrameGaps(const std::vector<FrameRecord>& frames);
+
+// A line-laser scan takes tens of frames a second. Frames a median of more
+// than kSlowFrameStepS apart are more likely a camera's milliseconds read as
+// seconds (the odometry's choices by frame rate and the real-time factor
+// follow the timestamps); a warning naming `csv` then, "" otherwise.
+constexpr double kSlowFrameStepS = 1.0;
+std::string SlowFramesWarning(const FrameGaps& gaps, const std::string& csv);
 
 class FramesCsvWriter {
  public:

@@ -139,6 +139,22 @@ TEST(FrameGapsTest, CountsTheFramesTheRecorderDropped) {
   EXPECT_NEAR(gaps.longest_s, 4 * dt, 0.25 * dt);
   EXPECT_EQ(FindFrameGaps({}).missing, 0);
   EXPECT_EQ(FindFrameGaps(std::vector<FrameRecord>(all.begin(), all.begin() + 2)).missing, 0);
+  EXPECT_NEAR(none.median_step_s, dt, 0.1 * dt);
+}
+
+// A camera's milliseconds read as seconds (a 144 Hz scan 6.9 "s" a frame)
+// pass the unit check, which refuses only steps of minutes: said, with what
+// to do (the scan ran tracking every frame and said "1341x real time").
+TEST(FrameGapsTest, FramesSecondsApartAreDoubted) {
+  std::vector<FrameRecord> frames(5);
+  for (int i = 0; i < 5; ++i) frames[i].timestamp_s = i * 1000.0 / 144;
+  EXPECT_EQ(SlowFramesWarning(FindFrameGaps(frames), "d/frames.csv"),
+            "d/frames.csv: the frames are 6.944 s apart (median): 0.144 frames a second; if "
+            "timestamp_s is in milliseconds, divide it by 1000");
+  for (int i = 0; i < 5; ++i) frames[i].timestamp_s = i / 144.0;
+  EXPECT_EQ(SlowFramesWarning(FindFrameGaps(frames), "d/frames.csv"), "");
+  for (int i = 0; i < 5; ++i) frames[i].timestamp_s = i * 0.9;  // a slow servo scan
+  EXPECT_EQ(SlowFramesWarning(FindFrameGaps(frames), "d/frames.csv"), "");
 }
 
 }  // namespace

@@ -190,6 +190,8 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the frames with the laser on (turbid or dark water, the line out "
                        "of view or too weak): those frames add nothing to the cloud");
   }
+  const std::string slow = SlowFramesWarning(frame_gaps, "frames.csv");
+  if (!slow.empty()) warnings.push_back(slow);
   if (frame_gaps.missing > 0) {
     warnings.push_back(fmt::format(
         "{} frame(s) missing from the sequence ({} gap(s) in frames.csv's timestamps, the longest "
@@ -468,6 +470,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"sequence_duration_s", sequence_duration_s},
       {"frames_missing", frame_gaps.missing},
       {"frame_gaps", frame_gaps.gaps},
+      {"frame_step_s", frame_gaps.median_step_s},
       {"longest_frame_gap_s", frame_gaps.longest_s},
       {"real_time_factor", RealTimeFactor()}};
 }

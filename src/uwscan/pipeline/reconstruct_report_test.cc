@@ -49,6 +49,11 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
             std::string::npos)
       << dropped.Warnings()[0];
   EXPECT_EQ(dropped.ToJson()["frames_missing"], 5);
+  ReconstructReport milliseconds = good;  // frames.csv in ms, read as s
+  milliseconds.frame_gaps.median_step_s = 1000.0 / 144;
+  ASSERT_EQ(milliseconds.Warnings().size(), 1u);
+  EXPECT_EQ(milliseconds.Warnings()[0].rfind("frames.csv: the frames are 6.944 s apart", 0), 0u)
+      << milliseconds.Warnings()[0];
 
   // Frames without a pose: held while the odometry waited to start, lost
   // by it, or outside an external trajectory's times.

@@ -173,6 +173,9 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
   auto warn = [&](const std::string& message) {
     if (summary.warnings.size() < 20) summary.warnings.push_back(message);
   };
+  const std::string slow =
+      SlowFramesWarning(FindFrameGaps(dataset.frames), (dataset.dir / "frames.csv").string());
+  if (!slow.empty()) warn(slow);
   for (int i = 0; i < total; ++i) {
     const FrameRecord& entry = dataset.frames[size_t(i)];
     cv::Mat raw = ReadFrameImage(dataset, entry);
