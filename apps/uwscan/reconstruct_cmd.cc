@@ -219,7 +219,7 @@ void RegisterReconstructCommand(CLI::App& app) {
                     (r.async_bundle_adjustment ? ", windowed BA on its own thread" : ""))
                        .c_str(),
                    r.seconds, r.RealTimeFactor(), out->c_str());
-      if (r.seconds_waiting_for_images > 0.25 * r.seconds) {
+      if (r.seconds > 1.0 && r.seconds_waiting_for_images > 0.25 * r.seconds) {
         std::fprintf(stderr,
                      "reconstruct: %.1f s of the %.1f s went waiting for the next image to be "
                      "read and decoded: a disk slower than the processing shows here\n",
