@@ -121,6 +121,9 @@ expect 2 "air-without-port needs" -- "$UWSCAN" calibrate camera --images "$TMP" 
 expect 1 "not a folder" -- "$UWSCAN" calibrate camera --images "$TMP/none" --board 9x6:0.025 \
   --out "$TMP/bad.yaml"
 expect 2 "COLSxROWS" -- "$UWSCAN" calibrate camera --images "$TMP" --board 9by6 --out "$TMP/bad.yaml"
+# Centimetres given for metres (2.5 for 25 mm) would scale the calibration by 100.
+expect 2 "the square size is in metres, in (0, 1\] (0.025 for 25 mm squares), got 2.5" -- \
+  "$UWSCAN" calibrate camera --images "$TMP" --board 9x6:2.5 --out "$TMP/bad.yaml"
 [[ -e $TMP/bad.yaml ]] && fail "a rig was written on error"
 ls "$TMP"/bad.yaml.tmp* >/dev/null 2>&1 && fail "a temporary rig was left behind"
 [[ $failures == 0 ]] && echo "calibrate CLI tests passed"

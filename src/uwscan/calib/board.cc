@@ -44,7 +44,10 @@ void BoardSpec::Check() const {
             rows);
   UWS_CHECK(cols != rows,
             "a square corner grid is ambiguous under rotation; use a board with cols != rows");
-  UWS_CHECK(square_m > 0.0 && square_m < 10.0, "square size must be in (0, 10) m, got ", square_m);
+  // Up to a metre: a square of 2.5 is centimetres given for metres, which
+  // would scale the board's poses and the laser's calibration by 100.
+  UWS_CHECK(square_m > 0.0 && square_m <= 1.0,
+            "the square size is in metres, in (0, 1] (0.025 for 25 mm squares), got ", square_m);
 }
 
 void CornerSet::Check(const std::string& context) const {
