@@ -111,6 +111,15 @@ TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
       {Edit("name: cam0", "name: \"\""), "cameras[0]: name must be a plain file name"},
       {Edit("name: laser0", "name: ../x"), "lasers[0]: name must be a plain file name"},
       {Edit("cx: 640.0", "cx: 640000.0"), "the principal point (cx 640000, cy 480) is far outside"},
+      // Millimetres given for metres: each was taken, and the scan went wrong.
+      {Edit("d_air: 0.005", "d_air: 5"),
+       "cameras[0]: port.d_air is 5 m: rig.yaml's distances are in metres (5 mm is 0.005), and a "
+       "flat port's air gap is under 0.5 m"},
+      {Edit("d_glass: 0.010", "d_glass: 10"), "port.d_glass is 10 m"},
+      {Edit("t: [0.8, 0, 0]", "t: [800, 0, 0]"),
+       "lasers[0]: camera_from_laser's t (its length) is 800 m: rig.yaml's distances are in "
+       "metres (800 mm is 0.8)"},
+      {Edit("t: [0, 0, 0]", "t: [0, 0, 120]"), "rig_from_camera's t (its length) is 120 m"},
       // OpenCV's cv::FileStorage calibration, as its calibration sample writes it.
       {"%YAML:1.0\n---\nimage_width: 320\nimage_height: 240\ncamera_matrix: !!opencv-matrix\n"
        "   rows: 3\n   cols: 3\n   dt: d\n   data: [ 195.6, 0., 162., 0., 195.6, 121.2, 0., 0., 1. "

@@ -105,6 +105,12 @@ bool Camera::InImage(const Eigen::Vector2d& pixel, double margin) const {
          pixel.x() <= width - 0.5 - margin && pixel.y() <= height - 0.5 - margin;
 }
 
+void CheckMetres(double value_m, double max_m, const std::string& what, const std::string& name) {
+  UWS_CHECK(std::abs(value_m) <= max_m, what, " is ", value_m,
+            " m: rig.yaml's distances are in metres (", value_m, " mm is ", value_m * 1e-3,
+            "), and ", name, " is under ", max_m, " m");
+}
+
 void Camera::Check(const std::string& context) const {
   UWS_CHECK(width > 0 && height > 0, context, ": width and height must be positive");
   for (double value : intrinsics)
@@ -118,6 +124,8 @@ void Camera::Check(const std::string& context) const {
                 std::abs(intrinsics[3] - 0.5 * height) <= 1.5 * height,
             context, ": the principal point (cx ", intrinsics[2], ", cy ", intrinsics[3],
             ") is far outside the ", width, "x", height, " image");
+  CheckMetres(rig_from_camera.translation.norm(), kMaxRigOffsetM,
+              context + ": rig_from_camera's t (its length)", "a camera's offset in the rig");
   UWS_CHECK(
       bayer == "none" || bayer == "rggb" || bayer == "bggr" || bayer == "grbg" || bayer == "gbrg",
       context, ": bayer must be one of none, rggb, bggr, grbg, gbrg (got '", bayer, "')");
@@ -132,6 +140,9 @@ void Camera::Check(const std::string& context) const {
             ": port.d_air must be a non-negative distance in metres");
   UWS_CHECK(std::isfinite(port.d_glass) && port.d_glass >= 0, context,
             ": port.d_glass must be a non-negative thickness in metres");
+  // Millimetres given for metres (d_air: 7) would put the port metres away.
+  CheckMetres(port.d_air, kMaxPortAirGapM, context + ": port.d_air", "a flat port's air gap");
+  CheckMetres(port.d_glass, kMaxPortGlassM, context + ": port.d_glass", "a port's glass");
   for (const auto& [key, value] :
        {std::pair{"n_air", port.n_air}, std::pair{"n_glass", port.n_glass},
         std::pair{"n_water", port.n_water}}) {

@@ -21,6 +21,15 @@ const char* CameraModelName(CameraModelId model);
 std::optional<CameraModelId> CameraModelFromName(const std::string& name);
 std::optional<ProjectionMethod> ProjectionMethodFromName(const std::string& name);
 
+// Bounds of a rig's lengths, well above any real one: a value above is
+// millimetres (or centimetres) given for metres.
+constexpr double kMaxPortAirGapM = 0.5;
+constexpr double kMaxPortGlassM = 0.2;
+constexpr double kMaxRigOffsetM = 20.0;  // between cameras, lasers and the rig
+// Throws uwscan::Error "WHAT is V m: rig.yaml's distances are in metres (V mm
+// is ...), and NAME is under MAX m" when |value_m| > max_m.
+void CheckMetres(double value_m, double max_m, const std::string& what, const std::string& name);
+
 // Flat port geometry and media (thesis Tab. 4.4), see architecture.md.
 struct FlatPort {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, camera -> water

@@ -52,6 +52,8 @@ void LineProjector::Check(const std::string& context) const {
   UWS_CHECK(
       camera_from_laser.translation.allFinite() && camera_from_laser.rotation.coeffs().allFinite(),
       context, ": camera_from_laser must be finite");
+  CheckMetres(camera_from_laser.translation.norm(), kMaxRigOffsetM,
+              context + ": camera_from_laser's t (its length)", "a laser's offset from the camera");
 }
 
 namespace {
