@@ -1,7 +1,9 @@
 #include "uwscan/calib/checkerboard.h"
 
 #include <algorithm>
+#include <exception>
 #include <iomanip>
+#include <mutex>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -9,6 +11,8 @@
 #include "uwscan/io/image.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/parallel.h"
+#include "uwscan/util/progress.h"
 
 namespace uwscan {
 
@@ -168,32 +172,63 @@ FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const 
       break;
     }
   }
-  for (const fs::path& file : files) {
-    cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
-    UWS_CHECK(!image.empty(), file.string(), ": cannot read the image");
-    PrepareFrame(&image, 16, file);  // an alpha channel dropped
-    image = DemosaicToBgr(image, bayer);
-    if (result.set.width == 0) {
-      result.set.width = image.cols;
-      result.set.height = image.rows;
+  // The detector is most of a calibration's time: the images on all cores,
+  // each alone; errors are then said in the images' order.
+  struct Read {
+    cv::Size size;
+    BoardDetection detection;
+    std::exception_ptr error;
+  };
+  std::vector<Read> reads(files.size());
+  ProgressBar progress("boards in " + folder.string(), static_cast<long>(files.size()),
+                       options.progress);
+  std::mutex progress_mutex;
+  long done = 0;
+  ParallelFor(static_cast<int>(files.size()), MachineThreads(), 1, [&](int i) {
+    Read& read = reads[i];
+    try {
+      cv::Mat image = cv::imread(files[i].string(), cv::IMREAD_UNCHANGED);
+      UWS_CHECK(!image.empty(), files[i].string(), ": cannot read the image");
+      PrepareFrame(&image, 16, files[i]);  // an alpha channel dropped
+      image = DemosaicToBgr(image, bayer);
+      read.size = image.size();
+      read.detection = DetectBoard(image, board, options);
+    } catch (...) {
+      read.error = std::current_exception();
     }
-    UWS_CHECK(image.cols == result.set.width && image.rows == result.set.height, file.string(),
-              ": image is ", image.cols, "x", image.rows, " but ", files.front().string(), " is ",
-              result.set.width, "x", result.set.height, "; all images must have the same size");
-    BoardDetection detection = DetectBoard(image, board, options);
-    detection.name = file.filename().string();
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress.Update(++done);
+  });
+  progress.Finish();
+  for (size_t i = 0; i < files.size(); ++i) {
+    Read& read = reads[i];
+    if (read.error) std::rethrow_exception(read.error);
+    if (result.set.width == 0) {
+      result.set.width = read.size.width;
+      result.set.height = read.size.height;
+    }
+    UWS_CHECK(read.size.width == result.set.width && read.size.height == result.set.height,
+              files[i].string(), ": image is ", read.size.width, "x", read.size.height, " but ",
+              files.front().string(), " is ", result.set.width, "x", result.set.height,
+              "; all images must have the same size");
+    BoardDetection& detection = read.detection;
+    detection.name = files[i].filename().string();
     if (detection.found) result.set.views.push_back({detection.name, detection.points});
-    result.images.push_back(detection);
+    result.images.push_back(std::move(detection));
   }
   // A board spec smaller than the real board still finds sub-boards (valid
   // geometry, but a user error): probe a few images with CALIB_CB_LARGER.
-  int probed = 0, larger = 0;
-  for (size_t i = 0; i < files.size() && probed < 3; ++i) {
-    if (!result.images[i].found && !result.set.views.empty()) continue;
-    const int corners = CountLargerBoardCorners(cv::imread(files[i].string()), board);
-    ++probed;
-    larger += corners > board.NumCorners();
+  std::vector<size_t> probes;
+  for (size_t i = 0; i < files.size() && probes.size() < 3; ++i) {
+    if (result.images[i].found || result.set.views.empty()) probes.push_back(i);
   }
+  std::vector<int> probe_corners(probes.size());
+  ParallelFor(static_cast<int>(probes.size()), MachineThreads(), 1, [&](int p) {
+    probe_corners[p] = CountLargerBoardCorners(cv::imread(files[probes[p]].string()), board);
+  });
+  const int probed = static_cast<int>(probes.size());
+  const int larger = static_cast<int>(std::count_if(probe_corners.begin(), probe_corners.end(),
+                                                    [&](int n) { return n > board.NumCorners(); }));
   UWS_CHECK(larger < 2, folder.string(), ": ", larger, " of ", probed,
             " probed image(s) show a board with more inner corners than ", board.cols, "x",
             board.rows, "; check --board (inner corners, COLSxROWS)");

@@ -35,6 +35,7 @@ struct DetectionOptions {
   // neither hides the dim board from the contrast stretch nor looks like an
   // edge to the sharpness measure. -1: all channels.
   int ignore_channel = -1;
+  bool progress = true;  // DetectBoardsInFolder: a progress bar on a terminal
   void Check() const;
 };
 
@@ -57,8 +58,9 @@ struct FolderDetection {
   CornerSet set;                       // the found boards
 };
 
-// Every .png/.jpg/.jpeg/.bmp/.tif(f) in `folder`. Throws uwscan::Error if the
-// folder has no images, they differ in size, or no board is found in any.
+// Every .png/.jpg/.jpeg/.bmp/.tif(f) in `folder`, the images on all cores
+// (results as on one). Throws uwscan::Error if the folder has no images,
+// they differ in size, or no board is found in any.
 FolderDetection DetectBoardsInFolder(const std::filesystem::path& folder, const BoardSpec& board,
                                      const DetectionOptions& options);
 

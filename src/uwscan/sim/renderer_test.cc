@@ -6,12 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <atomic>
 #include <cmath>
-#include <stdexcept>
 #include <vector>
 
-#include "uwscan/sim/parallel.h"
 #include "uwscan/sim/scenario.h"
 #include "uwscan/sim/testing.h"
 
@@ -208,30 +205,6 @@ TEST(RendererTest, DeterministicForASeedAndIndependentOfThreads) {
   FrameState other = state;
   other.noise_seed += 1;
   EXPECT_GT(cv::norm(a, Renderer(scenario.config).Render(other).image, cv::NORM_L1), 0.0);
-}
-
-TEST(ParallelRowsTest, EveryRowOnceOnAnyNumberOfThreads) {
-  for (int threads : {1, 2, 3, 5}) {
-    for (int rows : {0, 7, 16, 101}) {
-      std::vector<std::atomic<int>> seen(static_cast<size_t>(rows));
-      ParallelRows(rows, threads, [&](int y) { ++seen[static_cast<size_t>(y)]; });
-      for (int y = 0; y < rows; ++y)
-        EXPECT_EQ(seen[static_cast<size_t>(y)].load(), 1) << threads << " threads, row " << y;
-    }
-  }
-}
-
-TEST(ParallelRowsTest, AnErrorInARowReachesTheCaller) {
-  for (int threads : {1, 2, 3}) {
-    std::atomic<int> done{0};
-    EXPECT_THROW(ParallelRows(200, threads,
-                              [&](int y) {
-                                if (y == 150) throw std::runtime_error("row 150");
-                                ++done;
-                              }),
-                 std::runtime_error);
-    EXPECT_LT(done.load(), 200);
-  }
 }
 
 }  // namespace
