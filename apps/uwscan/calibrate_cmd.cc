@@ -1,7 +1,5 @@
 // uwscan calibrate camera | laser: checkerboard calibration of a flat-port
 // camera (in air, refined in water) and of a line laser (thesis §4.4).
-#include <malloc.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,16 +19,6 @@
 
 namespace uwscan::cli {
 namespace {
-
-// OpenCV's checkerboard detector allocates and frees buffers of several
-// megabytes for every image. glibc maps each of those afresh and returns it
-// at once, and the kernel zero-fills its pages again on every use: that took
-// over a third of a calibration's time (docs/BENCHMARKS.md). Taken from the heap and
-// kept there, they are reused (peak memory the same).
-void ReuseLargeBuffers() {
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-}
 
 namespace fs = std::filesystem;
 
@@ -268,10 +256,7 @@ void RegisterCalibrateCommands(CLI::App& app) {
   camera->add_option("--out", camera_args->out, "rig.yaml to write")->required();
   camera->add_option("--report", camera_args->report, "folder for calibration.json and the PNG");
   camera->add_flag("--quiet", camera_args->quiet, "no progress bar or per-image messages");
-  camera->callback([camera_args] {
-    ReuseLargeBuffers();
-    RunCalibrateCamera(*camera_args);
-  });
+  camera->callback([camera_args] { RunCalibrateCamera(*camera_args); });
 
   auto laser_args = std::make_shared<LaserArgs>();
   auto* laser = calibrate->add_subcommand(
@@ -301,10 +286,7 @@ void RegisterCalibrateCommands(CLI::App& app) {
   laser->add_option("--out", laser_args->out, "rig.yaml to write")->required();
   laser->add_option("--report", laser_args->report, "folder for laser_calibration.json");
   laser->add_flag("--quiet", laser_args->quiet, "no progress bar or per-image messages");
-  laser->callback([laser_args] {
-    ReuseLargeBuffers();
-    RunCalibrateLaser(*laser_args);
-  });
+  laser->callback([laser_args] { RunCalibrateLaser(*laser_args); });
 
   auto* bench = calibrate->add_subcommand(
       "detect-bench", "Detection rate and corner error of both detectors on rendered boards");

@@ -2,6 +2,7 @@
 // error, 1 bad input or runtime failure ("uwscan: error: ..." on stderr),
 // 130 (143) interrupted by Ctrl-C (SIGTERM).
 #include <glog/logging.h>
+#include <malloc.h>
 
 #include <iostream>
 
@@ -23,9 +24,21 @@ void RefuseEmptyValues(CLI::App* app) {
   for (CLI::App* command : app->get_subcommands({})) RefuseEmptyValues(command);
 }
 
+// OpenCV's checkerboard detector and the simulator allocate and free
+// buffers of several megabytes per image. glibc maps each afresh and returns
+// it at once, and the kernel zero-fills its pages on every use: that took
+// over a third of a calibration's time and a seventh of a simulation's
+// (docs/BENCHMARKS.md). Taken from the heap and kept there, they are reused
+// (peak memory the same).
+void ReuseLargeBuffers() {
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  ReuseLargeBuffers();
   // Ceres logs a solver's routine recoveries (a Levenberg-Marquardt step the
   // linear solver refused, retried with more damping) as glog warnings:
   // the user sees its errors only, on stderr, and no log files.
