@@ -255,8 +255,9 @@ TEST_F(ReadImageTest, UnreadableFilesAreNamed) {
 // A folder's images by name, whatever the case of their extension; other
 // files, subfolders and hidden files left out (macOS writes "._NAME.png"
 // beside each image it copies to a USB disk; they were read as frames, and
-// every frame after them was numbered one too high); a folder without images, or none, is an
-// error naming it, and a dataset folder's error says where its images are.
+// every frame after them was numbered one too high); a folder without
+// images, or none, is an error naming it, and a dataset folder's error says
+// where its images are.
 TEST_F(ReadImageTest, ListImageFilesFindsAFoldersImagesAndSaysWhereADatasetsAre) {
   const fs::path folder = dir_ / "list";
   fs::create_directories(folder / "sub.png");  // a folder, not an image
