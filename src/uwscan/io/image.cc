@@ -64,13 +64,16 @@ std::string ImageTypeName(int type) {
 
 namespace {
 
+// The largest sample of an 8- or 16-bit image (frames are one or the other).
+double FullScale(const cv::Mat& image) { return image.depth() == CV_16U ? 65535.0 : 255.0; }
+
 // The means of a single-channel 8- or 16-bit image's four 2x2 pixel phases
 // (row-major: (0,0), (0,1), (1,0), (1,1)) as fractions of full scale; none
 // for other images and ones under 16x16.
 std::optional<std::array<double, 4>> PhaseMeans(const cv::Mat& image) {
   if (image.channels() != 1 || image.cols < 16 || image.rows < 16) return std::nullopt;
   if (image.depth() != CV_8U && image.depth() != CV_16U) return std::nullopt;
-  const double full_scale = image.depth() == CV_8U ? 255.0 : 65535.0;
+  const double full_scale = FullScale(image);
   double sum[2][2] = {{0, 0}, {0, 0}};
   for (int y = 0; y < image.rows; ++y) {
     for (int x = 0; x < image.cols; ++x) {
@@ -178,9 +181,8 @@ FrameDoubts InspectFrame(const cv::Mat& image, const std::filesystem::path& file
 
 double LitShare(const cv::Mat& image) {
   if (image.empty()) return 1.0;
-  const double full_scale = image.depth() == CV_16U ? 65535.0 : 255.0;
   cv::Mat lit;
-  cv::compare(image.reshape(1), 0.02 * full_scale, lit, cv::CMP_GT);
+  cv::compare(image.reshape(1), 0.02 * FullScale(image), lit, cv::CMP_GT);
   return static_cast<double>(cv::countNonZero(lit)) / static_cast<double>(lit.total());
 }
 
