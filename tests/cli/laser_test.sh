@@ -140,6 +140,15 @@ YAML
 [ $? -eq 1 ] || fail "size mismatch should exit 1"
 grep -q "000.pgm: image is 160x120 but camera 'cam0' is 320x240" "$dir/err" || fail "mismatch message: $(cat "$dir/err")"
 [ ! -e "$dir/y.csv" ] || fail "no output on error"
+# Half the size in both directions (binned): the error gives the
+# intrinsics for it, about pixel centres, and a rig with them is taken.
+grep -q "0.5 times its size in both directions.*width: 160, height: 120, fx: 150, fy: 150, cx: 79.75, cy: 59.75" \
+  "$dir/err" || fail "binned frames: no intrinsics for their size: $(cat "$dir/err")"
+sed -e 's/width: 320/width: 160/; s/height: 240/height: 120/; s/fx: 300.0/fx: 150/; s/fy: 300.0/fy: 150/' \
+  -e 's/cx: 160.0/cx: 79.75/; s/cy: 120.0/cy: 59.75/' "$dir/rig.yaml" > "$dir/rig_binned.yaml"
+"$bin" laser detect --images "$dir/frames" --rig "$dir/rig_binned.yaml" --out "$dir/y.csv" \
+  2>"$dir/err" || fail "the rig with the suggested intrinsics: $(cat "$dir/err")"
+rm -f "$dir/y.csv"
 "$bin" laser detect --images "$dir/frames" --out "$dir/z.csv" --method hough 2>/dev/null
 [ $? -eq 2 ] || fail "bad method should exit 2"
 for bad in "--sigma 0" "--scan diagonal" "--channel infrared" "--albedo purple"; do

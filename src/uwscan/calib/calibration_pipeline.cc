@@ -148,9 +148,8 @@ LaserPipelineResult RunLaserCalibration(const Camera& camera, const LaserPipelin
   const FolderDetection detection =
       DetectBoardsInFolder(options.images, options.board, board_detection);
   UWS_CHECK(detection.set.width == camera.width && detection.set.height == camera.height,
-            options.images.string(), ": images are ", detection.set.width, "x",
-            detection.set.height, " but camera '", camera.name, "' is ", camera.width, "x",
-            camera.height);
+            options.images.string(), ": ",
+            ImageSizeMismatch(camera, detection.set.width, detection.set.height));
   std::vector<LaserView> views;
   nlohmann::json view_list = nlohmann::json::array();
   for (const ViewCorners& view : detection.set.views) {

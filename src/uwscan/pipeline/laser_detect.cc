@@ -206,8 +206,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     }
     if (camera) {
       UWS_CHECK(image.cols == camera->width && image.rows == camera->height, images[i].string(),
-                ": image is ", image.cols, "x", image.rows, " but camera '", camera->name, "' is ",
-                camera->width, "x", camera->height);
+                ": ", ImageSizeMismatch(*camera, image.cols, image.rows));
     }
     UWS_CHECK(image.depth() == CV_8U || image.depth() == CV_16U, images[i].string(),
               ": only 8- and 16-bit images are supported");

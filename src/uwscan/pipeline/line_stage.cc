@@ -81,8 +81,8 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
                         laser::Profile* profile) {
   const FrameRecord& record = frames_[i];
   UWS_CHECK(image.cols == camera_.width && image.rows == camera_.height,
-            (dataset_ / record.file).string(), ": image is ", image.cols, "x", image.rows,
-            " but camera '", camera_.name, "' is ", camera_.width, "x", camera_.height);
+            (dataset_ / record.file).string(), ": ",
+            ImageSizeMismatch(camera_, image.cols, image.rows));
   if (first_image_type_ < 0) InspectFirstFrame(image, dataset_ / record.file);
   // One colour frame among raw Bayer ones (or a 16-bit one among 8-bit
   // ones) is another camera's or another export's: its colours and levels

@@ -223,9 +223,8 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
       }
       mask = Tracking::TrackedMask(mask, tracked_size);
     } else if (!raw.empty() && halvings > 0) {
-      warn("frame " + std::to_string(entry.index) + ": image is " + std::to_string(raw.cols) + "x" +
-           std::to_string(raw.rows) + ", camera '" + rig_camera.name + "' is " +
-           std::to_string(rig_camera.width) + "x" + std::to_string(rig_camera.height));
+      warn("frame " + std::to_string(entry.index) + ": " +
+           ImageSizeMismatch(rig_camera, raw.cols, raw.rows));
     } else if (!raw.empty()) {
       // (A frame of the wrong size goes through as it is: the odometry
       // reports it invalid.)

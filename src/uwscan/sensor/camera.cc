@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "uwscan/util/error.h"
 
@@ -171,6 +173,27 @@ Camera ScaledCamera(const Camera& camera, double factor) {
   scaled.intrinsics[2] = (camera.intrinsics[2] + 0.5) * factor - 0.5;
   scaled.intrinsics[3] = (camera.intrinsics[3] + 0.5) * factor - 0.5;
   return scaled;
+}
+
+std::string ImageSizeMismatch(const Camera& camera, int cols, int rows) {
+  std::ostringstream out;
+  out << "image is " << cols << "x" << rows << " but camera '" << camera.name << "' is "
+      << camera.width << "x" << camera.height;
+  const double factor = static_cast<double>(cols) / camera.width;
+  if (cols == camera.height && rows == camera.width && cols != rows) {
+    out << ": the frames are turned by 90 degrees (saved upright by a viewer or an export that "
+           "applied the image's orientation tag?)";
+  } else if (cols > 0 && rows > 0 && cols != camera.width &&
+             std::abs(factor * camera.height - rows) < 0.5) {
+    const Camera scaled = ScaledCamera(camera, factor);
+    out << std::setprecision(6) << ": the frames are " << factor
+        << " times its size in both directions (binned or resized); calibrate the camera at "
+           "this size, or give rig.yaml the intrinsics for it: width: "
+        << cols << ", height: " << rows << ", fx: " << scaled.intrinsics[0]
+        << ", fy: " << scaled.intrinsics[1] << ", cx: " << scaled.intrinsics[2]
+        << ", cy: " << scaled.intrinsics[3] << " (distortion and port unchanged)";
+  }
+  return out.str();
 }
 
 Camera Camera::Flat1() { return ThesisCamera(Eigen::Vector3d(0, 0, 1), 0.005); }

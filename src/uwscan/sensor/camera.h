@@ -101,4 +101,9 @@ struct Camera {
 // centre of the first pixel), distortion and port unchanged.
 Camera ScaledCamera(const Camera& camera, double factor);
 
+// "image is 640x480 but camera 'cam0' is 1280x960", and what the sizes
+// suggest: frames scaled by one factor in both directions (binned or
+// resized), with the intrinsics for their size; or turned by 90 degrees.
+std::string ImageSizeMismatch(const Camera& camera, int cols, int rows);
+
 }  // namespace uwscan

@@ -63,5 +63,22 @@ TEST(Rig, ReorderedKeepsEveryCameraLaserPair) {
   EXPECT_THROW(rig.Reordered(2, 0), Error);
 }
 
+TEST(Camera, ImageSizeMismatchSaysWhatTheSizesSuggest) {
+  const Camera camera = Camera::Flat1();  // 1280x960, f 785, centre (640, 480)
+  // Binned 2x2: the centre of pixel (640, 480) lies at (319.75, 239.75) of
+  // the half-size image, whose pixels are twice as large.
+  EXPECT_EQ(ImageSizeMismatch(camera, 640, 480),
+            "image is 640x480 but camera 'cam0' is 1280x960: the frames are 0.5 times its size in "
+            "both directions (binned or resized); calibrate the camera at this size, or give "
+            "rig.yaml the intrinsics for it: width: 640, height: 480, fx: 392.5, fy: 392.5, cx: "
+            "319.75, cy: 239.75 (distortion and port unchanged)");
+  EXPECT_NE(ImageSizeMismatch(camera, 1920, 1440).find("1.5 times its size"), std::string::npos);
+  EXPECT_NE(ImageSizeMismatch(camera, 960, 1280).find("turned by 90 degrees"), std::string::npos);
+  // A crop (another aspect) suggests nothing.
+  EXPECT_EQ(ImageSizeMismatch(camera, 1280, 720),
+            "image is 1280x720 but camera 'cam0' is 1280x960");
+  EXPECT_EQ(ImageSizeMismatch(camera, 0, 0), "image is 0x0 but camera 'cam0' is 1280x960");
+}
+
 }  // namespace
 }  // namespace uwscan

@@ -108,12 +108,9 @@ FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, do
   const cv::Mat gray = ToGray8(image);
   if (gray.empty() || gray.cols != camera_.width || gray.rows != camera_.height) {
     result.status = FrameStatus::kInvalid;
-    result.message = image.empty() ? "empty image"
-                     : gray.empty()
-                         ? "unsupported image type"
-                         : "image is " + std::to_string(image.cols) + "x" +
-                               std::to_string(image.rows) + ", camera is " +
-                               std::to_string(camera_.width) + "x" + std::to_string(camera_.height);
+    result.message = image.empty()  ? "empty image"
+                     : gray.empty() ? "unsupported image type"
+                                    : ImageSizeMismatch(camera_, image.cols, image.rows);
     result.total_time_s = SecondsSince(start);
     result.total_cpu_s = ThreadCpuSeconds() - cpu_start;
     return result;
