@@ -76,14 +76,18 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
   options.Check();
   BoardDetection result;
   cv::Mat gray = Grey(image, options.ignore_channel);
-  if (gray.depth() != CV_8U) gray.convertTo(gray, CV_8U, gray.depth() == CV_16U ? 1.0 / 256 : 1.0);
   // Dim frames (underwater, short exposure) are stretched linearly to the
   // full range: a linear map keeps the corner positions unbiased, unlike
-  // the detector's own histogram equalisation.
+  // the detector's own histogram equalisation. A 16-bit frame is stretched
+  // from its own samples, not from their top 8 bits: a 10- or 12-bit
+  // camera's frames hold theirs in the low bits.
+  const double full_scale = gray.depth() == CV_16U ? 65535.0 : 255.0;
   double lowest = 0.0, highest = 0.0;
   cv::minMaxLoc(gray, &lowest, &highest);
-  if (highest > lowest && highest < 128.0) {
+  if (highest > lowest && highest < 0.5 * full_scale) {
     gray.convertTo(gray, CV_8U, 255.0 / (highest - lowest), -lowest * 255.0 / (highest - lowest));
+  } else if (gray.depth() != CV_8U) {
+    gray.convertTo(gray, CV_8U, 255.0 / full_scale);
   }
   const cv::Size pattern(board.cols, board.rows);
   std::vector<cv::Point2f> corners;

@@ -54,6 +54,30 @@ TEST(Checkerboard, BothDetectorsFindARenderedBoardSubPixel) {
   }
 }
 
+// A 12-bit camera's frames saved as 16-bit images hold their samples in
+// the low bits (up to 4095 of 65535): the board must be found as exactly
+// as in the 8-bit image, not after a cut to the top 8 bits (of a dim
+// frame's 20 grey levels in 8 bits, 2 are left there).
+TEST(Checkerboard, TwelveBitSamplesInSixteenBitImagesKeepTheirPrecision) {
+  BoardRenderOptions render;
+  render.blur_sigma_px = 0.7;
+  render.noise_sigma = 0.5;
+  render.black = 2.0;  // a dim frame, as the simulated aquarium's (at most 22)
+  render.white = 20.0;
+  std::vector<Eigen::Vector2d> truth;
+  const cv::Mat image = RenderBoard(kBoard, FrontalPose(0.45), render, &truth);
+  cv::Mat twelve_bit;
+  image.convertTo(twelve_bit, CV_16U, 16.0);
+  const BoardDetection eight = DetectBoard(image, kBoard, DetectionOptions());
+  const BoardDetection sixteen = DetectBoard(twelve_bit, kBoard, DetectionOptions());
+  ASSERT_TRUE(eight.found) << eight.reason;
+  ASSERT_TRUE(sixteen.found) << sixteen.reason;
+  const double rms8 = MatchedRms(eight.points, truth);
+  const double rms16 = MatchedRms(sixteen.points, truth);
+  EXPECT_LT(rms16, 0.1);
+  EXPECT_NEAR(rms16, rms8, 0.01);
+}
+
 TEST(Checkerboard, RejectsBlurredPartialAndWrongSizeWithReasons) {
   std::vector<Eigen::Vector2d> truth;
   BoardRenderOptions blurred;
