@@ -186,6 +186,14 @@ expect_status 1 "reconstruct --poses in nanoseconds" "$uwscan" reconstruct --dat
   --out "$work/ns.out" --poses "$work/ns.tum" --quiet
 grep -q "ns.tum: timestamps step by .* these look like nanoseconds (divide by 1e9)" "$work/err" ||
   fail "--poses in nanoseconds: $(cat "$work/err")"
+# One in milliseconds covers the frames' times, its steps read as seconds: the scan runs, placing
+# every profile with a pose interpolated over seconds, and says so.
+awk '!/^#/ { $1 = sprintf("%.6f", $1 * 1e3) } { print }' "$work/ds/groundtruth.tum" >"$work/ms.tum"
+expect_status 0 "reconstruct --poses in milliseconds" "$uwscan" reconstruct --dataset "$work/ds" \
+  --out "$work/ms.out" --poses "$work/ms.tum"
+grep -q "warning: .*ms.tum's poses are 6.94 s apart (median), and the frames' 0.0208 s hold 1 of them.*in milliseconds? divide them by 1000" \
+  "$work/err" || fail "--poses in milliseconds: $(cat "$work/err")"
+grep -q '"external_pose_step_s": 6.94' "$work/ms.out/report.json" || fail "ms: report.json"
 
 # Outputs onto the dataset's own files are usage errors, the files untouched.
 truth_sum=$(cksum <"$work/ds/groundtruth.tum")

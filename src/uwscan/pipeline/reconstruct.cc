@@ -23,6 +23,7 @@
 #include "uwscan/util/interrupt.h"
 #include "uwscan/util/json.h"
 #include "uwscan/util/progress.h"
+#include "uwscan/util/statistics.h"
 #include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
@@ -111,7 +112,8 @@ std::shared_ptr<const fusion::SimulatorTruth> LoadSimulatorTruth(const fs::path&
 // refused before the frames are read, with the offset that would align the
 // two starts.
 std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job,
-                                                    const std::vector<FrameRecord>& frames) {
+                                                    const std::vector<FrameRecord>& frames,
+                                                    ReconstructReport* report) {
   TumTrajectory trajectory = ReadTumTrajectory(*job.poses_file, 1e-6);
   std::vector<StampedPose>& poses = trajectory.poses;
   std::vector<std::pair<double, double>> gaps;  // no pose is interpolated across one
@@ -144,6 +146,14 @@ std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job,
         "): a log on another clock? --poses-time-offset ",
         fmt::format("{:.6f}", frames_first - first + job.poses_time_offset_s),
         " would align the two starts");
+    std::vector<double> steps;
+    for (size_t i = 1; i < poses.size(); ++i)
+      steps.push_back(poses[i].timestamp_s - poses[i - 1].timestamp_s);
+    report->external_pose_step_s = steps.empty() ? 0.0 : Median(steps);
+    report->external_poses_in_scan =
+        static_cast<int>(std::count_if(poses.begin(), poses.end(), [&](const StampedPose& pose) {
+          return pose.timestamp_s >= frames_first && pose.timestamp_s <= frames_last;
+        }));
   }
   return std::make_unique<fusion::TrajectoryPoseProvider>(std::move(poses), name,
                                                           kMaxExtrapolationS, std::move(gaps));
@@ -214,7 +224,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
           ? FindOtherCameras(job.dataset, rig, 0, job.max_frames)
           : std::vector<OtherCamera>{};
 
-  if (!provider && job.poses_file) provider = ExternalPoses(job, frames);
+  if (!provider && job.poses_file) provider = ExternalPoses(job, frames, &report);
   const fusion::SelfReferencedPoseProvider* self_referenced = nullptr;
   if (!provider) {
     fusion::SelfReferencedOptions options = job.self_referenced;

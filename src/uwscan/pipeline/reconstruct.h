@@ -237,6 +237,10 @@ struct ReconstructReport {
   double sequence_duration_s = 0.0;  // from the frame timestamps
   FrameGaps frame_gaps;              // frames the camera or its recorder dropped (frames.csv)
   std::string pose_source;
+  // --poses: the file's poses' median step (s) and how many lie within the
+  // frames' times; -1 without such a file.
+  double external_pose_step_s = -1.0;
+  int external_poses_in_scan = -1;
   nlohmann::json pose_details;  // statistics of the pose provider
   std::vector<CameraReport> other_cameras;
 

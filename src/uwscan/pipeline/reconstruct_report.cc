@@ -219,6 +219,18 @@ std::vector<std::string> ReconstructReport::Warnings() const {
     warnings.push_back(std::to_string(n) + " frame(s) (" + percent(n, frames) + " %) got no pose" +
                        when + " and are left out of the cloud (" + why + ")");
   };
+  // --poses far sparser than the frames (or in milliseconds: a log's
+  // 7 ms steps read as 7 s): each profile's pose is interpolated over far
+  // more motion than the trajectory measured.
+  if (external_pose_step_s > 1.0 ||
+      (external_poses_in_scan >= 0 && external_poses_in_scan < 2 && sequence_duration_s > 0.0)) {
+    warnings.push_back(fmt::format(
+        "{}'s poses are {:.3g} s apart (median), and the frames' {:.3g} s hold {} of them: every "
+        "profile is placed with a pose interpolated over that, whatever the platform did "
+        "between{}",
+        pose_source, external_pose_step_s, sequence_duration_s, external_poses_in_scan,
+        external_pose_step_s > 1.0 ? " (are its times in milliseconds? divide them by 1000)" : ""));
+  }
   const bool tracked = pose_source.rfind("self-referenced", 0) == 0;
   if (frames_without_pose > 0 && !tracked) {
     // An external trajectory has none outside its times (--poses).
@@ -446,6 +458,8 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"bayer_doubt", or_null(!first_frame.other_bayer.empty(), first_frame.other_bayer)},
       {"first_frame_lit_share", first_frame.lit_share},
       {"pose_source", pose_source},
+      {"external_pose_step_s", or_null(external_pose_step_s >= 0.0, external_pose_step_s)},
+      {"external_poses_in_scan", or_null(external_poses_in_scan >= 0, external_poses_in_scan)},
       {"pose", pose_details},
       {"other_cameras", cameras},
       {"timing_s",

@@ -86,6 +86,26 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   partial.pose_source = "ins.tum";
   EXPECT_TRUE(says(partial, 0, "(ins.tum has none at their times)"));
 
+  // --poses: an INS's 100 Hz log holds no doubt; one whose steps are seconds
+  // (a log in milliseconds) or of which the frames hold fewer than two does.
+  ReconstructReport external = good;
+  external.pose_source = "ins.tum";
+  external.sequence_duration_s = 1.4;
+  external.external_pose_step_s = 0.01;
+  external.external_poses_in_scan = 140;
+  EXPECT_TRUE(external.Warnings().empty());
+  external.external_pose_step_s = 6.94;
+  external.external_poses_in_scan = 1;
+  ASSERT_EQ(external.Warnings().size(), 1u);
+  EXPECT_TRUE(says(external, 0,
+                   "ins.tum's poses are 6.94 s apart (median), and the frames' 1.4 s hold 1 of "
+                   "them: every profile is placed with a pose interpolated over that, whatever "
+                   "the platform did between (are its times in milliseconds? divide them by "
+                   "1000)"));
+  external.external_pose_step_s = 0.5;  // a 2 Hz log and a short scan
+  EXPECT_TRUE(says(external, 0, "0.5 s apart (median), and the frames' 1.4 s hold 1 of them"));
+  EXPECT_EQ(external.Warnings()[0].find("milliseconds"), std::string::npos);
+
   // Marine snow: the particles the colour test ignored are named, and with
   // the self-referenced poses in many frames what they do to the odometry.
   ReconstructReport snowy = good;
