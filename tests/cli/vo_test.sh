@@ -56,6 +56,12 @@ awk -v CONVFMT=%.9f '/^#/ { next } { $1 += 1000; print }' "$dir/t.tum" >"$dir/la
 [ $? -eq 1 ] || fail "evaluate on another clock: want exit 1"
 grep -q "later.tum against .*: only 0 poses associate .*the estimate's times 10[0-9.]* to \
 10[0-9.]* s, the ground truth's [0-9.]* to [0-9.]* s)" "$dir/err" || fail "clocks: $(cat "$dir/err")"
+# ... and one in milliseconds is named as such.
+awk -v CONVFMT=%.9f '/^#/ { next } { $1 *= 1000; print }' "$dir/t.tum" >"$dir/ms.tum"
+"$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/ms.tum" 2>"$dir/err" >/dev/null
+[ $? -eq 1 ] || fail "evaluate in milliseconds: want exit 1"
+grep -q "ms.tum against .*: only [0-2] poses associate .*: the estimate's times in milliseconds?)" \
+  "$dir/err" || fail "milliseconds: $(cat "$dir/err")"
 # --json with a trajectory alone: the trajectory's figures; an unwritable
 # place is an error that names it.
 "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --json "$dir/e.json" >/dev/null \
