@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "uwscan/io/image.h"
+#include "uwscan/io/rig_yaml.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/testing.h"
@@ -261,6 +262,34 @@ TEST(ReconstructSampleBits, TwelveBitFramesSavedUnpackedAreScaledUp) {
         << e.what();
   }
   EXPECT_FALSE(fs::exists(root / "beyond"));
+  fs::remove_all(root);
+}
+
+// A laser pose written the wrong way round in rig.yaml (laser_from_camera
+// as camera_from_laser): most line points meet the light sheet nowhere in
+// front of the camera, and the report says the inverse would place them.
+TEST(ReconstructLaserPose, AnInvertedLaserPoseIsNamed) {
+  const fs::path root = TempFolder("inverted_laser");
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", ScanOptions(320, 240, 6, 31));
+  job.out = root / "right";
+  const ReconstructReport right = RunReconstruct(job);
+  EXPECT_EQ(right.triangulation_failures, 0);
+  EXPECT_FALSE(right.laser_pose_inverse_fits);
+  EXPECT_GT(right.points, 6 * 30);
+
+  Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
+  rig.lasers.front().camera_from_laser = rig.lasers.front().camera_from_laser.Inverse();
+  WriteRigYaml(job.dataset / "rig.yaml", rig);
+  job.out = root / "inverted";
+  const ReconstructReport inverted = RunReconstruct(job);
+  EXPECT_TRUE(inverted.laser_pose_inverse_fits);
+  EXPECT_GT(inverted.triangulation_failures, right.points / 4);
+  const std::vector<std::string> warnings = inverted.Warnings();
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+    return w.find(
+               "met the laser's light sheet nowhere in front of the camera and are left out: "
+               "the laser's pose in rig.yaml looks inverted") != std::string::npos;
+  })) << (warnings.empty() ? "no warning" : warnings.front());
   fs::remove_all(root);
 }
 

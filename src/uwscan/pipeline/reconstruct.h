@@ -167,7 +167,10 @@ struct ReconstructReport {
   int frames_without_pose = 0;
   long points = 0;
   long points_uncompensated = 0;
-  long triangulation_failures = 0;
+  long triangulation_failures = 0;  // line points whose ray missed the light sheet
+  // Many of the first frame's line points missed the sheet, and with the
+  // inverse of the laser's pose in rig.yaml all would meet it.
+  bool laser_pose_inverse_fits = false;
   long static_detections_removed = 0;  // line candidates ignored by the sweep filter
   // Fixed laser: earlier candidates placed on the scene by an epipolar
   // match with a frame before them (the rest take the profile's depth).

@@ -190,6 +190,22 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the frames with the laser on (turbid or dark water, the line out "
                        "of view or too weak): those frames add nothing to the cloud");
   }
+  // Line points whose ray misses the light sheet: none where rig.yaml holds
+  // the laser that drew the line.
+  if (triangulation_failures > 0 &&
+      triangulation_failures >= 0.05 * (points + grazing_points + triangulation_failures)) {
+    warnings.push_back(fmt::format(
+        "{} line point(s) ({:.0f} %) met the laser's light sheet nowhere in front of the camera "
+        "and are left out: {}",
+        triangulation_failures,
+        100.0 * triangulation_failures / (points + grazing_points + triangulation_failures),
+        laser_pose_inverse_fits
+            ? "the laser's pose in rig.yaml looks inverted, as its inverse places every point of "
+              "the first frame with a line (a laser_from_camera transform given as "
+              "camera_from_laser?)"
+            : "the laser's pose or bend in rig.yaml does not match the line seen (another "
+              "laser's calibration? `uwscan calibrate laser` measures it)"));
+  }
   const std::string slow = SlowFramesWarning(frame_gaps, "frames.csv");
   if (!slow.empty()) warnings.push_back(slow);
   if (frame_gaps.missing > 0) {
@@ -444,6 +460,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"off_colour_candidates_ignored", off_colour_points},
       {"frames_with_off_colour_candidates", frames_with_off_colour},
       {"grazing_points_dropped", grazing_points},
+      {"laser_pose_inverse_fits", laser_pose_inverse_fits},
       {"max_range_error_per_px", max_range_error_per_px},
       {"frames_sweep_filter_restored", frames_sweep_filter_restored},
       {"frames_with_clipped_scene", frames_with_clipped_scene},

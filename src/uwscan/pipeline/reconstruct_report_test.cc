@@ -86,6 +86,20 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   partial.pose_source = "ins.tum";
   EXPECT_TRUE(says(partial, 0, "(ins.tum has none at their times)"));
 
+  // Line points that met the light sheet nowhere: a few are no doubt (5 %
+  // of the line's points are), and a pose whose inverse fits is named.
+  ReconstructReport missed = good;
+  missed.triangulation_failures = 4000;
+  EXPECT_TRUE(missed.Warnings().empty());
+  missed.triangulation_failures = 4300;
+  ASSERT_EQ(missed.Warnings().size(), 1u);
+  EXPECT_TRUE(says(missed, 0,
+                   "4300 line point(s) (5 %) met the laser's light sheet nowhere in front of "
+                   "the camera and are left out: the laser's pose or bend in rig.yaml does not "
+                   "match the line seen"));
+  missed.laser_pose_inverse_fits = true;
+  EXPECT_TRUE(says(missed, 0, "the laser's pose in rig.yaml looks inverted"));
+
   // --poses: an INS's 100 Hz log holds no doubt; one whose steps are seconds
   // (a log in milliseconds) or of which the frames hold fewer than two does.
   ReconstructReport external = good;
