@@ -108,6 +108,11 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
       cv::subtract(image, dark_image_, lit_only);  // saturates at 0
       *detection = Detect(lit_only, record);
       ++report_->frames_on_difference;
+      if (!laser_on_checked_) {
+        lit_image_ = image;
+        lit_frame_ = i;
+        lit_points_ = detection->points.size();
+      }
     } else {
       *detection = Detect(image, record);
     }
@@ -145,6 +150,7 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     ++report_->frames_laser_off;
     dark_image_ = image;
     dark_frame_ = i;
+    if (!laser_on_checked_ && !lit_image_.empty() && lit_frame_ + 1 == i) CheckLaserOn(i);
   }
   report_->seconds_detect += SecondsSince(t);
 
@@ -164,6 +170,19 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
   report_->triangulation_failures += profile->failed;
   report_->grazing_points += profile->grazing;
   report_->seconds_triangulate += SecondsSince(t);
+}
+
+void LineStage::CheckLaserOn(size_t i) {
+  laser_on_checked_ = true;
+  cv::Mat reversed;
+  cv::subtract(dark_image_, lit_image_, reversed);
+  const size_t found =
+      laser::DetectLaserLine(reversed, laser::LayoutFor(camera_.bayer, reversed.channels()),
+                             detector_)
+          .points.size();
+  lit_image_ = cv::Mat();
+  if (found >= kLaserPoseCheckPoints && found >= 4 * lit_points_)
+    report_->laser_on_inverted_at = static_cast<int>(frames_[i].index);
 }
 
 void LineStage::CheckLaserPose(const laser::Detection& detection, double angle,

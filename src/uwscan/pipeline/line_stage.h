@@ -65,6 +65,10 @@ class LineStage {
   // Where many of a frame's line points miss the light sheet: whether the
   // inverse of the laser's pose in rig.yaml would place them all (a
   // laser_from_camera transform given as camera_from_laser).
+  // Interleaved scans, at the first laser-off frame after a laser-on one:
+  // whether the line shows far more clearly in its difference to that
+  // frame than the other way round (frames.csv's laser_on inverted).
+  void CheckLaserOn(size_t i);
   void CheckLaserPose(const laser::Detection& detection, double angle,
                       const laser::Profile& profile);
   // A detected point's scan line and position along it.
@@ -95,6 +99,11 @@ class LineStage {
   int first_image_type_ = -1;  // the first frame's OpenCV type: every frame's
   size_t dark_frame_ = 0;
   bool laser_pose_checked_ = false;  // CheckLaserPose ran (on the first frame with a line)
+  // Interleaved scans: the first laser-on frame's image and line points
+  // (after a laser-off one), until CheckLaserOn ran on the frame after it.
+  bool laser_on_checked_ = false;
+  cv::Mat lit_image_;
+  size_t lit_frame_ = 0, lit_points_ = 0;
 };
 
 }  // namespace uwscan

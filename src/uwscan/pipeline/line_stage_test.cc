@@ -15,6 +15,7 @@
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/testing.h"
+#include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan {
@@ -98,6 +99,29 @@ TEST(ReconstructInterleaved, DifferenceImagesIgnoreAPaintedStripe) {
   RunReconstruct(job);
   const auto single = EvaluateReconstruction(job.dataset, job.out);
   EXPECT_GT(single.compensated.point_error_rms_m, 0.05);  // the stripe, triangulated
+
+  // frames.csv's laser_on the wrong way round: hardly a line in a difference,
+  // and the warning names the column (the right one above did not).
+  EXPECT_EQ(report.laser_on_inverted_at, -1);
+  std::string csv = FileBytes(job.dataset / "frames.csv"), flipped;
+  for (size_t at = 0, end; at < csv.size(); at = end + 1) {
+    end = std::min(csv.find('\n', at), csv.size());
+    std::string line = csv.substr(at, end - at);
+    if (at > 0 && !line.empty()) line.back() = line.back() == '1' ? '0' : '1';
+    flipped += line + "\n";
+  }
+  WriteFileAtomic(job.dataset / "frames.csv", flipped);
+  job.out = root / "flipped";
+  job.detect_on_difference = true;
+  job.texture_filter = true;
+  const ReconstructReport inverted = RunReconstruct(job);
+  EXPECT_LE(inverted.frames_with_line, 2);  // of 12 marked on
+  EXPECT_EQ(inverted.laser_on_inverted_at, 2);
+  ASSERT_FALSE(inverted.Warnings().empty());
+  EXPECT_EQ(inverted.Warnings().front().find("frames.csv's laser_on column looks inverted: frame "
+                                             "2, marked laser off, shows the line"),
+            0u)
+      << inverted.Warnings().front();
   fs::remove_all(root);
 }
 

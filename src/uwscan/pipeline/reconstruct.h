@@ -171,6 +171,10 @@ struct ReconstructReport {
   // Many of the first frame's line points missed the sheet, and with the
   // inverse of the laser's pose in rig.yaml all would meet it.
   bool laser_pose_inverse_fits = false;
+  // Interleaved scans: the frame marked laser-off in which the line showed
+  // against the laser-on frame before it (frames.csv's laser_on inverted);
+  // -1 if none.
+  int laser_on_inverted_at = -1;
   long static_detections_removed = 0;  // line candidates ignored by the sweep filter
   // Fixed laser: earlier candidates placed on the scene by an epipolar
   // match with a frame before them (the rest take the profile's depth).

@@ -184,6 +184,12 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   const auto percent = [](double part, double whole) {
     return std::to_string(static_cast<int>(std::lround(100.0 * part / std::max(whole, 1.0))));
   };
+  if (laser_on_inverted_at >= 0) {
+    warnings.push_back(fmt::format(
+        "frames.csv's laser_on column looks inverted: frame {}, marked laser off, shows the line "
+        "against the frame before it, marked on (1 marks the frames taken with the laser on)",
+        laser_on_inverted_at));
+  }
   const int frames_lit = frames - frames_laser_off;
   if (frames_lit > 0 && frames_with_line < 0.9 * frames_lit) {
     warnings.push_back("no laser line in " + percent(frames_lit - frames_with_line, frames_lit) +
@@ -461,6 +467,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"frames_with_off_colour_candidates", frames_with_off_colour},
       {"grazing_points_dropped", grazing_points},
       {"laser_pose_inverse_fits", laser_pose_inverse_fits},
+      {"laser_on_inverted_at", or_null(laser_on_inverted_at >= 0, laser_on_inverted_at)},
       {"max_range_error_per_px", max_range_error_per_px},
       {"frames_sweep_filter_restored", frames_sweep_filter_restored},
       {"frames_with_clipped_scene", frames_with_clipped_scene},
