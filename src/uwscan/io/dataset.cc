@@ -127,6 +127,20 @@ std::vector<FrameRecord> ReadFramesCsv(const std::filesystem::path& path) {
   std::vector<double> times;
   for (const FrameRecord& record : records) times.push_back(record.timestamp_s);
   CheckTimestampsInSeconds(times, path.string() + ": timestamp_s");
+  // Servo angles in degrees (as the calibration's servo angle file takes
+  // them) would turn the sheet by whole turns between frames.
+  double lowest = 0.0, highest = 0.0;
+  bool angles = false;
+  for (const FrameRecord& record : records) {
+    if (!record.laser_angle_rad) continue;
+    lowest = angles ? std::min(lowest, *record.laser_angle_rad) : *record.laser_angle_rad;
+    highest = angles ? std::max(highest, *record.laser_angle_rad) : *record.laser_angle_rad;
+    angles = true;
+  }
+  UWS_CHECK(!angles || (highest - lowest <= M_PI && std::max(-lowest, highest) <= 2.0 * M_PI),
+            path.string(), ": laser_angle_rad runs from ", lowest, " to ", highest,
+            ", more than a half turn of the servo or beyond a whole one: in degrees? they are "
+            "radians (degrees x pi / 180)");
   return records;
 }
 

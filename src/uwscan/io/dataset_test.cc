@@ -115,6 +115,15 @@ TEST_F(FramesCsvTest, ErrorsNameTheFileAndLine) {
   EXPECT_EQ(message("index,timestamp_s,file\n0,1700000000.000,a.png\n1,1700000000.007,b.png\n"),
             "no error");
   EXPECT_EQ(message("index,timestamp_s,file\n0,0,a.png\n1,60,b.png\n"), "no error");
+  // Servo angles in degrees: a sweep over 23 "radians", or one held at 45.
+  EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,5.7\n1,1,b.png,-17.2\n")
+                .find("frames.csv: laser_angle_rad runs from -17.2 to 5.7, more than a half turn "
+                      "of the servo or beyond a whole one: in degrees? they are radians"),
+            std::string::npos);
+  EXPECT_NE(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,45\n").find("in degrees?"),
+            std::string::npos);
+  EXPECT_EQ(message("index,timestamp_s,file,laser_angle_rad\n0,0,a.png,0.1\n1,1,b.png,-0.3\n"),
+            "no error");
 }
 
 // A 144 Hz sequence with the timestamps' jitter of a real recorder
