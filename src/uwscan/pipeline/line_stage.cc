@@ -103,8 +103,8 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     // No laser-off frame just before (the first frame): the line is not
     // looked for in the raw image, where the scene could pass for it.
   } else if (!laser_off) {
+    cv::Mat lit_only;
     if (difference) {
-      cv::Mat lit_only;
       cv::subtract(image, dark_image_, lit_only);  // saturates at 0
       *detection = Detect(lit_only, record);
       ++report_->frames_on_difference;
@@ -116,6 +116,7 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     } else {
       *detection = Detect(image, record);
     }
+    if (!laser_colour_checked_) CheckLaserColour(difference ? lit_only : image, *detection);
     report_->static_detections_removed += detection->stats.excluded_candidates;
     report_->albedo_edge_points += detection->stats.albedo_edge_points;
     report_->off_colour_points += detection->stats.off_colour_peaks;
@@ -170,6 +171,24 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
   report_->triangulation_failures += profile->failed;
   report_->grazing_points += profile->grazing;
   report_->seconds_triangulate += SecondsSince(t);
+}
+
+void LineStage::CheckLaserColour(const cv::Mat& image, const laser::Detection& detection) {
+  laser_colour_checked_ = true;
+  const laser::ColourLayout layout = laser::LayoutFor(camera_.bayer, image.channels());
+  if (layout == laser::ColourLayout::kMono || detection.points.size() >= 0.1 * ScanLines()) return;
+  for (int channel : {laser::kRed, laser::kGreen, laser::kBlue}) {
+    if (channel == detector_.laser_channel) continue;
+    laser::DetectorOptions options;
+    options.scan_rows = detector_.scan_rows;
+    options.laser_channel = channel;
+    if (laser::DetectLaserLine(image, layout, options).points.size() >= 0.3 * ScanLines()) {
+      report_->laser_seen_in = laser::ChannelName(channel);
+      report_->laser_expected_in = laser::ChannelName(detector_.laser_channel);
+      report_->laser_wavelength_nm = laser_.wavelength_nm;
+      return;
+    }
+  }
 }
 
 void LineStage::CheckLaserOn(size_t i) {

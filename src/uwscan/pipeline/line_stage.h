@@ -69,6 +69,9 @@ class LineStage {
   // whether the line shows far more clearly in its difference to that
   // frame than the other way round (frames.csv's laser_on inverted).
   void CheckLaserOn(size_t i);
+  // The first frame with the laser on, where its colour (rig.yaml's
+  // wavelength_nm) shows hardly a line: whether another colour shows one.
+  void CheckLaserColour(const cv::Mat& image, const laser::Detection& detection);
   void CheckLaserPose(const laser::Detection& detection, double angle,
                       const laser::Profile& profile);
   // A detected point's scan line and position along it.
@@ -102,6 +105,7 @@ class LineStage {
   // Interleaved scans: the first laser-on frame's image and line points
   // (after a laser-off one), until CheckLaserOn ran on the frame after it.
   bool laser_on_checked_ = false;
+  bool laser_colour_checked_ = false;
   cv::Mat lit_image_;
   size_t lit_frame_ = 0, lit_points_ = 0;
 };

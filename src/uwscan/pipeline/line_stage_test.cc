@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -314,6 +315,39 @@ TEST(ReconstructLaserPose, AnInvertedLaserPoseIsNamed) {
                "met the laser's light sheet nowhere in front of the camera and are left out: "
                "the laser's pose in rig.yaml looks inverted") != std::string::npos;
   })) << (warnings.empty() ? "no warning" : warnings.front());
+  fs::remove_all(root);
+}
+
+// A red laser's line with rig.yaml's wavelength_nm left at a green one's:
+// the detector finds hardly a line in green, and the report names the
+// colour it shows in. The simulator's RGB frames with red and green
+// swapped stand for it.
+TEST(ReconstructLaserColour, ALineInAnotherColourIsNamed) {
+  const fs::path root = TempFolder("laser_colour");
+  sim::ScenarioOptions options = ScanOptions(320, 240, 4, 37);
+  options.output = sim::OutputFormat::kRgb;
+  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
+  job.out = root / "green";
+  const ReconstructReport green = RunReconstruct(job);
+  EXPECT_EQ(green.laser_seen_in, "");
+  EXPECT_EQ(green.frames_with_line, 4);
+
+  for (const auto& entry : fs::directory_iterator(job.dataset / "frames")) {
+    std::vector<cv::Mat> bgr;
+    cv::split(ReadImage(entry.path()), bgr);
+    std::swap(bgr[1], bgr[2]);
+    cv::Mat swapped;
+    cv::merge(bgr, swapped);
+    WritePng(entry.path(), swapped);
+  }
+  job.out = root / "red";
+  const ReconstructReport red = RunReconstruct(job);
+  EXPECT_EQ(red.laser_seen_in, "red");
+  ASSERT_FALSE(red.Warnings().empty());
+  EXPECT_EQ(red.Warnings().front().find("the laser line shows in red, not in green, the colour of "
+                                        "its 532 nm in rig.yaml"),
+            0u)
+      << red.Warnings().front();
   fs::remove_all(root);
 }
 

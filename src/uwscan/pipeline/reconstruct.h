@@ -175,6 +175,11 @@ struct ReconstructReport {
   // against the laser-on frame before it (frames.csv's laser_on inverted);
   // -1 if none.
   int laser_on_inverted_at = -1;
+  // The colour the line showed in, on the first frame with the laser on,
+  // where the colour of rig.yaml's wavelength showed hardly any; empty if
+  // none.
+  std::string laser_seen_in, laser_expected_in;
+  double laser_wavelength_nm = 0.0;
   long static_detections_removed = 0;  // line candidates ignored by the sweep filter
   // Fixed laser: earlier candidates placed on the scene by an epipolar
   // match with a frame before them (the rest take the profile's depth).

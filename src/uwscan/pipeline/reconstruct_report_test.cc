@@ -86,6 +86,17 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   partial.pose_source = "ins.tum";
   EXPECT_TRUE(says(partial, 0, "(ins.tum has none at their times)"));
 
+  // The line in another colour than rig.yaml's wavelength gives: first.
+  ReconstructReport red = good;
+  red.frames_with_line = 10;
+  red.laser_seen_in = "red";
+  red.laser_expected_in = "green";
+  red.laser_wavelength_nm = 532;
+  ASSERT_EQ(red.Warnings().size(), 2u);  // with: no line in most frames
+  EXPECT_TRUE(says(red, 0,
+                   "the laser line shows in red, not in green, the colour of its 532 nm in "
+                   "rig.yaml: set the laser's wavelength_nm to its own"));
+
   // Line points that met the light sheet nowhere: a few are no doubt (5 %
   // of the line's points are), and a pose whose inverse fits is named.
   ReconstructReport missed = good;
