@@ -72,6 +72,8 @@ void RegisterLaserCommands(CLI::App& app) {
     const LaserDetectSummary s = RunLaserDetect(*job);
     for (const std::string& warning : s.first_frame.Warnings())
       std::fprintf(stderr, "laser detect: warning: %s\n", warning.c_str());
+    if (!s.laser_colour_warning.empty())
+      std::fprintf(stderr, "laser detect: warning: %s\n", s.laser_colour_warning.c_str());
     if (!job->quiet) {
       const std::string laser_off =
           s.frames_laser_off > 0

@@ -51,6 +51,30 @@ for frame, centre in ((0, 60.25), (2, 100.5)):
     assert rms < 0.15, (frame, rms)
 PY
 [ -f "$dir/overlay/000.png" ] || fail "overlay image"
+# A red laser's line looked for in green (the default without a rig): named, with the --channel
+# that finds it; looked for in red, no such warning and the line found.
+mkdir -p "$dir/red"
+python3 - "$dir/red" <<'PY' || fail "write colour frames"
+import math, random, sys
+random.seed(5)
+W, H = 160, 120
+pixels = bytearray()
+for v in range(H):
+    for u in range(W):
+        texture = 30 + 10 * math.sin(u * 0.3) * math.cos(v * 0.2)
+        red = texture + 180 * math.exp(-0.5 * ((u - 70.5 - 0.1 * v) / 1.5) ** 2)
+        for x in (red, texture, texture):
+            pixels.append(max(0, min(255, int(round(x + random.gauss(0, 1.5))))))
+with open(sys.argv[1] + "/000.ppm", "wb") as f:
+    f.write(b"P6\n%d %d\n255\n" % (W, H) + bytes(pixels))
+PY
+"$bin" laser detect --images "$dir/red" --out "$dir/red.csv" 2>"$dir/err" || fail "red: $(cat "$dir/err")"
+grep -q "warning: the laser line shows in red, not in green, the colour looked in: give --channel red" \
+  "$dir/err" || fail "red line looked for in green: $(cat "$dir/err")"
+"$bin" laser detect --images "$dir/red" --out "$dir/red.csv" --channel red 2>"$dir/err" ||
+  fail "red: $(cat "$dir/err")"
+! grep -q "shows in" "$dir/err" || fail "red line looked for in red: $(cat "$dir/err")"
+[ "$(wc -l <"$dir/red.csv")" -gt 100 ] || fail "red line looked for in red: not found"
 # Overlays into the images' own folder would replace the frames with their drawings (they did):
 # a usage error, the frames untouched; so is an --out onto an input.
 cp -r "$dir/frames" "$dir/own"

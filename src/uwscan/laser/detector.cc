@@ -542,4 +542,31 @@ Detection DetectLaserLine(const cv::Mat& image_in, ColourLayout layout_in,
   return detection;
 }
 
+int OtherColourOfTheLine(const cv::Mat& image, ColourLayout layout, const DetectorOptions& options,
+                         size_t found) {
+  const int scan_lines = options.scan_rows ? image.rows : image.cols;
+  if (layout == ColourLayout::kMono || found >= 0.1 * scan_lines) return -1;
+  for (int channel : {kRed, kGreen, kBlue}) {
+    if (channel == options.laser_channel) continue;
+    DetectorOptions other;
+    other.scan_rows = options.scan_rows;
+    other.laser_channel = channel;
+    if (DetectLaserLine(image, layout, other).points.size() >= 0.3 * scan_lines) return channel;
+  }
+  return -1;
+}
+
+std::string LaserColourWarning(int seen, int expected, double wavelength_nm) {
+  std::string text = std::string("the laser line shows in ") + ChannelName(seen) + ", not in " +
+                     ChannelName(expected);
+  if (wavelength_nm > 0.0) {
+    char nm[32];
+    std::snprintf(nm, sizeof(nm), "%g", wavelength_nm);
+    return text + ", the colour of its " + nm +
+           " nm in rig.yaml: set the laser's wavelength_nm to its own (about 450 for a blue "
+           "laser, 520-532 for a green one, 640-660 for a red one)";
+  }
+  return text + ", the colour looked in: give --channel " + ChannelName(seen);
+}
+
 }  // namespace uwscan::laser

@@ -168,4 +168,14 @@ struct Detection {
 Detection DetectLaserLine(const cv::Mat& image, ColourLayout layout,
                           const DetectorOptions& options);
 
+// Where `found` points of a colour image's line in options.laser_channel
+// are under a tenth of its scan lines: the other colour (kRed, kGreen or
+// kBlue) that shows a line on 30 % of them or more (a laser of another
+// colour than the one looked in); -1 if none, or for a mono image.
+int OtherColourOfTheLine(const cv::Mat& image, ColourLayout layout, const DetectorOptions& options,
+                         size_t found);
+// What to say when the line shows in `seen`, not in `expected`: the colour
+// of rig.yaml's `wavelength_nm` (> 0), or else the one looked in.
+std::string LaserColourWarning(int seen, int expected, double wavelength_nm);
+
 }  // namespace uwscan::laser

@@ -217,6 +217,14 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
                                          camera != nullptr, job.sample_bits);
     }
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);
+    if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1) {
+      const int seen = laser::OtherColourOfTheLine(image, layout, options, detection.points.size());
+      const bool from_rig = laser && job.channel == "auto";
+      if (seen >= 0) {
+        summary.laser_colour_warning = laser::LaserColourWarning(
+            seen, options.laser_channel, from_rig ? laser->wavelength_nm : 0.0);
+      }
+    }
     if (detection.points.empty()) ++summary.frames_without_line;
     const laser::ClippedScene clipped = laser::MeasureClipping(image, layout, options.laser_channel,
                                                                options.scan_rows, detection.points);

@@ -47,6 +47,9 @@ struct LaserDetectSummary {
   int frames_with_clipped_scene = 0;
   double clipped_scene_share = 0.0;
   FrameDoubts first_frame;  // of the first frame read
+  // The first frame read showed the line in another colour than the one
+  // looked in (laser::LaserColourWarning); empty if not.
+  std::string laser_colour_warning;
   double seconds = 0.0;
 };
 

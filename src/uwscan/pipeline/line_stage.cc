@@ -175,19 +175,12 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
 
 void LineStage::CheckLaserColour(const cv::Mat& image, const laser::Detection& detection) {
   laser_colour_checked_ = true;
-  const laser::ColourLayout layout = laser::LayoutFor(camera_.bayer, image.channels());
-  if (layout == laser::ColourLayout::kMono || detection.points.size() >= 0.1 * ScanLines()) return;
-  for (int channel : {laser::kRed, laser::kGreen, laser::kBlue}) {
-    if (channel == detector_.laser_channel) continue;
-    laser::DetectorOptions options;
-    options.scan_rows = detector_.scan_rows;
-    options.laser_channel = channel;
-    if (laser::DetectLaserLine(image, layout, options).points.size() >= 0.3 * ScanLines()) {
-      report_->laser_seen_in = laser::ChannelName(channel);
-      report_->laser_expected_in = laser::ChannelName(detector_.laser_channel);
-      report_->laser_wavelength_nm = laser_.wavelength_nm;
-      return;
-    }
+  const int seen = laser::OtherColourOfTheLine(
+      image, laser::LayoutFor(camera_.bayer, image.channels()), detector_, detection.points.size());
+  if (seen >= 0) {
+    report_->laser_seen_in = laser::ChannelName(seen);
+    report_->laser_colour_warning =
+        laser::LaserColourWarning(seen, detector_.laser_channel, laser_.wavelength_nm);
   }
 }
 

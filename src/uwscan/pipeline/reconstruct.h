@@ -175,11 +175,10 @@ struct ReconstructReport {
   // against the laser-on frame before it (frames.csv's laser_on inverted);
   // -1 if none.
   int laser_on_inverted_at = -1;
-  // The colour the line showed in, on the first frame with the laser on,
-  // where the colour of rig.yaml's wavelength showed hardly any; empty if
-  // none.
-  std::string laser_seen_in, laser_expected_in;
-  double laser_wavelength_nm = 0.0;
+  // The first frame with the laser on showed the line in another colour
+  // than rig.yaml's wavelength gives: that colour's name, and what to do
+  // (laser::LaserColourWarning); empty if not.
+  std::string laser_seen_in, laser_colour_warning;
   long static_detections_removed = 0;  // line candidates ignored by the sweep filter
   // Fixed laser: earlier candidates placed on the scene by an epipolar
   // match with a frame before them (the rest take the profile's depth).

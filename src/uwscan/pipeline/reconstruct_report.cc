@@ -184,13 +184,7 @@ std::vector<std::string> ReconstructReport::Warnings() const {
   const auto percent = [](double part, double whole) {
     return std::to_string(static_cast<int>(std::lround(100.0 * part / std::max(whole, 1.0))));
   };
-  if (!laser_seen_in.empty()) {
-    warnings.push_back(fmt::format(
-        "the laser line shows in {}, not in {}, the colour of its {:g} nm in rig.yaml: set the "
-        "laser's wavelength_nm to its own (about 450 for a blue laser, 520-532 for a green one, "
-        "640-660 for a red one)",
-        laser_seen_in, laser_expected_in, laser_wavelength_nm));
-  }
+  if (!laser_colour_warning.empty()) warnings.push_back(laser_colour_warning);
   if (laser_on_inverted_at >= 0) {
     warnings.push_back(fmt::format(
         "frames.csv's laser_on column looks inverted: frame {}, marked laser off, shows the line "

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "uwscan/laser/detector.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/util/error.h"
 
@@ -90,8 +91,7 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   ReconstructReport red = good;
   red.frames_with_line = 10;
   red.laser_seen_in = "red";
-  red.laser_expected_in = "green";
-  red.laser_wavelength_nm = 532;
+  red.laser_colour_warning = laser::LaserColourWarning(laser::kRed, laser::kGreen, 532);
   ASSERT_EQ(red.Warnings().size(), 2u);  // with: no line in most frames
   EXPECT_TRUE(says(red, 0,
                    "the laser line shows in red, not in green, the colour of its 532 nm in "
