@@ -244,6 +244,15 @@ std::map<std::string, double> ReadServoAngles(const std::filesystem::path& path)
               ":", number, ": '", line.substr(0, comma), "' is given an angle twice");
   }
   UWS_CHECK(!angles.empty(), path.string(), ": no servo angles");
+  // Radians read as degrees (frames.csv takes radians) put every view
+  // within a degree or so: the servo would not have turned between them.
+  const auto [lowest, highest] =
+      std::minmax_element(angles.begin(), angles.end(),
+                          [](const auto& a, const auto& b) { return a.second < b.second; });
+  const double span_deg = (highest->second - lowest->second) * 180.0 / M_PI;
+  UWS_CHECK(angles.size() < 2 || span_deg >= 1.0, path.string(), ": the servo angles span ",
+            span_deg, " degrees (", lowest->first, " to ", highest->first,
+            "): the servo must turn between the views; in radians? this file takes degrees");
   return angles;
 }
 

@@ -138,6 +138,11 @@ TEST(LaserImagePipeline, ServoAngleErrorsNameTheLine) {
             source + ":2: the angle must be a number of degrees in [-360, 360], got '1e9'");
   EXPECT_EQ(error_of("file,angle_deg\n000.png,1\n001.png,2\n000.png,3\n"),
             source + ":4: '000.png' is given an angle twice");
+  // Radians given as degrees: the views within half a degree.
+  EXPECT_EQ(error_of("file,angle_deg\n000.png,-0.2\n001.png,0.1\n002.png,0.3\n"),
+            source +
+                ": the servo angles span 0.5 degrees (000.png to 002.png): the servo must "
+                "turn between the views; in radians? this file takes degrees");
   std::filesystem::remove(path);
 }
 
