@@ -40,7 +40,20 @@ Camera ReadCamera(const YAML::Node& node, const std::string& where, const std::s
             "' must be pinhole or flatport (got '", model, "')");
   camera.model = *model_id;
   camera.intrinsics = {map.Number("fx"), map.Number("fy"), map.Number("cx"), map.Number("cy")};
-  camera.distortion = map.Vector<5>("distortion");
+  // OpenCV's order, as OpenCV and ROS write it: k1 k2 p1 p2 [k3 [k4 k5 k6
+  // [s1 s2 s3 s4 [tx ty]]]]; uwscan's lens has the first five.
+  const std::vector<double> distortion = map.Numbers("distortion");
+  const size_t n = distortion.size();
+  UWS_CHECK(n == 4 || n == 5 || n == 8 || n == 12 || n == 14, source, ": '", map.Name("distortion"),
+            "' must be OpenCV's k1, k2, p1, p2[, k3] (got ", n, " numbers)");
+  for (size_t i = 5; i < n; ++i) {
+    UWS_CHECK(distortion[i] == 0.0, source, ": '", map.Name("distortion"), "' has ", n,
+              " coefficients and the ", i + 1,
+              "th is not 0: OpenCV's rational or thin-prism model, which uwscan's lens (k1, k2, "
+              "p1, p2, k3) does not hold; calibrate with `uwscan calibrate camera`");
+  }
+  camera.distortion = {distortion[0], distortion[1], distortion[2], distortion[3],
+                       n > 4 ? distortion[4] : 0.0};
   if (camera.IsFlatPort()) {
     StrictMap port = map.Child("port");
     const auto normal = port.Vector<3>("normal");

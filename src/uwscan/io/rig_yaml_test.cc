@@ -104,7 +104,11 @@ TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
       {Edit("bayer: none", "bayer: rgbg"), "bayer must be one of"},
       {Edit("model: flatport", "model: fisheye"), "'cameras[0].model' must be pinhole or flatport"},
       {Edit("format: uwscan-rig/1", "format: uwscan-rig/2"), "'format' must be uwscan-rig/1"},
-      {Edit("distortion: [0, 0, 0, 0, 0]", "distortion: [0, 0, 0, 0]"), "list of 5 numbers"},
+      {Edit("distortion: [0, 0, 0, 0, 0]", "distortion: [0, 0, 0]"),
+       "'cameras[0].distortion' must be OpenCV's k1, k2, p1, p2[, k3] (got 3 numbers)"},
+      {Edit("distortion: [0, 0, 0, 0, 0]", "distortion: [0.1, 0, 0, 0, 0, 0.02, 0, 0]"),
+       "'cameras[0].distortion' has 8 coefficients and the 6th is not 0: OpenCV's rational or "
+       "thin-prism model"},
       {Edit("p1: 0.0", "p1: 0.0\n    power: 1"), "unknown key 'lasers[0].power'"},
       {Edit("q: [1, 0, 0, 0], t: [0.8", "q: [2, 0, 0, 0], t: [0.8"), "unit quaternion"},
       {"cameras: [", "not valid YAML"},
@@ -132,6 +136,20 @@ TEST(RigYaml, ErrorsNameTheFileAndTheKey) {
     EXPECT_NE(message.find(c.expected), std::string::npos)
         << "expected '" << c.expected << "' in '" << message << "'";
   }
+}
+
+// OpenCV's and ROS's distortion lists as they write them: four numbers
+// (k3 = 0), or eight with the rational model's k4-k6 at 0.
+TEST(RigYaml, DistortionAsOpenCvWritesIt) {
+  const auto distortion_of = [](const std::string& list) {
+    return ParseRigYaml(Edit("distortion: [0, 0, 0, 0, 0]", "distortion: " + list), "test.yaml")
+        .cameras[0]
+        .distortion;
+  };
+  const std::array<double, 5> expected{-0.3, 0.1, 0.001, -0.002, 0.0};
+  EXPECT_EQ(distortion_of("[-0.3, 0.1, 0.001, -0.002]"), expected);
+  EXPECT_EQ(distortion_of("[-0.3, 0.1, 0.001, -0.002, 0, 0, 0, 0]"), expected);
+  EXPECT_EQ(distortion_of("[-0.3, 0.1, 0.001, -0.002, 0.05]")[4], 0.05);
 }
 
 TEST(RigYaml, MissingFileIsAnError) { EXPECT_THROW(ReadRigYaml("/nonexistent/rig.yaml"), Error); }

@@ -71,6 +71,15 @@ std::string StrictMap::String(const std::string& key) {
   return value.Scalar();
 }
 
+std::vector<double> StrictMap::Numbers(const std::string& key) {
+  const YAML::Node value = Get(key);
+  UWS_CHECK(value.IsSequence(), source_, ": '", Name(key), "' must be a list of numbers");
+  std::vector<double> result;
+  for (size_t i = 0; i < value.size(); ++i)
+    result.push_back(ToNumber(value[i], Name(key) + "[" + std::to_string(i) + "]"));
+  return result;
+}
+
 Eigen::Vector3d StrictMap::Vector3(const std::string& key) {
   const std::array<double, 3> v = Vector<3>(key);
   return Eigen::Vector3d(v[0], v[1], v[2]);

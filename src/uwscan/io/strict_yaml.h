@@ -8,6 +8,7 @@
 #include <array>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "uwscan/geometry/rigid3d.h"
 #include "uwscan/util/error.h"
@@ -29,6 +30,7 @@ class StrictMap {
   bool Bool(const std::string& key);
   std::string String(const std::string& key);
   Eigen::Vector3d Vector3(const std::string& key);
+  std::vector<double> Numbers(const std::string& key);  // a list of any length
   template <size_t N>
   std::array<double, N> Vector(const std::string& key) {
     const YAML::Node value = Get(key);
