@@ -74,6 +74,9 @@ void RegisterLaserCommands(CLI::App& app) {
       std::fprintf(stderr, "laser detect: warning: %s\n", warning.c_str());
     if (!s.laser_colour_warning.empty())
       std::fprintf(stderr, "laser detect: warning: %s\n", s.laser_colour_warning.c_str());
+    const std::string missed = laser::MissedSheetWarning(
+        s.missed_points, s.profile_points + s.grazing_points, s.laser_pose_inverse_fits);
+    if (!missed.empty()) std::fprintf(stderr, "laser detect: warning: %s\n", missed.c_str());
     if (!job->quiet) {
       const std::string laser_off =
           s.frames_laser_off > 0

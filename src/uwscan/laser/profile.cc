@@ -56,4 +56,29 @@ Profile TriangulateProfile(const Camera& camera, const LineProjector& laser,
   return profile;
 }
 
+bool InverseLaserPoseFits(const Camera& camera, const LineProjector& laser,
+                          const Rigid3d& camera_from_laser, double angle_rad,
+                          const std::vector<LaserPoint>& points, const Profile& profile,
+                          double max_range_error_per_px) {
+  const double found = static_cast<double>(points.size());
+  if (points.size() < kPoseCheckPoints || profile.failed < 0.2 * found) return false;
+  const Profile inverse = TriangulateProfile(
+      camera, laser, CameraFromLaserAtAngle(camera_from_laser.Inverse(), angle_rad), points,
+      profile.frame, max_range_error_per_px);
+  return inverse.failed + inverse.grazing <= 0.02 * found;
+}
+
+std::string MissedSheetWarning(long missed, long kept, bool inverse_fits) {
+  if (missed <= 0 || missed < 0.05 * (missed + kept)) return "";
+  return std::to_string(missed) + " line point(s) (" +
+         std::to_string(static_cast<int>(std::lround(100.0 * missed / (missed + kept)))) +
+         " %) met the laser's light sheet nowhere in front of the camera and are left out: " +
+         (inverse_fits
+              ? "the laser's pose in rig.yaml looks inverted, as its inverse places every point "
+                "of the first frame with a line (a laser_from_camera transform given as "
+                "camera_from_laser?)"
+              : "the laser's pose or bend in rig.yaml does not match the line seen (another "
+                "laser's calibration? `uwscan calibrate laser` measures it)");
+}
+
 }  // namespace uwscan::laser

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "uwscan/laser/detector.h"
@@ -46,5 +47,19 @@ inline constexpr double kMaxRangeErrorPerPixel = 0.05;
 Profile TriangulateProfile(const Camera& camera, const LineProjector& laser,
                            const Rigid3d& camera_from_laser, const std::vector<LaserPoint>& points,
                            int frame = 0, double max_range_error_per_px = kMaxRangeErrorPerPixel);
+
+// Line points whose ray met the light sheet nowhere: none where the rig
+// holds the laser that drew the line. Where a fifth or more of a frame's
+// `points` (at least kPoseCheckPoints) missed in `profile`, whether the
+// inverse of the laser's pose would place nearly all of them (a
+// laser_from_camera transform given as camera_from_laser); the pose at
+// servo angle `angle_rad`.
+inline constexpr size_t kPoseCheckPoints = 20;
+bool InverseLaserPoseFits(const Camera& camera, const LineProjector& laser,
+                          const Rigid3d& camera_from_laser, double angle_rad,
+                          const std::vector<LaserPoint>& points, const Profile& profile,
+                          double max_range_error_per_px);
+// The warning for `missed` such points of `missed + kept` (empty under 5 %).
+std::string MissedSheetWarning(long missed, long kept, bool inverse_fits);
 
 }  // namespace uwscan::laser

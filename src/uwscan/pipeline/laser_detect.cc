@@ -187,6 +187,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
   }
   char line[160];
   LaserDetectSummary summary;
+  bool pose_checked = false;
   laser::ClippedScene clipped_total;
   ProgressBar progress("laser detect", static_cast<long>(images.size()), !job.quiet);
   for (size_t i = 0; i < images.size(); ++i) {
@@ -244,6 +245,13 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
           detection.points, static_cast<int>(frame));
       summary.profile_points += profile.points.size();
       summary.grazing_points += profile.grazing;
+      summary.missed_points += profile.failed;
+      if (!pose_checked && detection.points.size() >= laser::kPoseCheckPoints) {
+        pose_checked = true;
+        summary.laser_pose_inverse_fits =
+            laser::InverseLaserPoseFits(*camera, *laser, camera_from_laser, angle, detection.points,
+                                        profile, laser::kMaxRangeErrorPerPixel);
+      }
       for (const auto& p : profile.points) {
         std::snprintf(line, sizeof(line), "%zu,%.7f,%.7f,%.7f\n", frame, p.point_in_camera.x(),
                       p.point_in_camera.y(), p.point_in_camera.z());

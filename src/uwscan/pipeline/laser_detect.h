@@ -40,7 +40,9 @@ struct LaserDetectSummary {
   int unreadable_frames = 0;
   long points = 0;
   long profile_points = 0;
-  long grazing_points = 0;  // left out of the profiles (laser::kMaxRangeErrorPerPixel)
+  long grazing_points = 0;               // left out of the profiles (laser::kMaxRangeErrorPerPixel)
+  long missed_points = 0;                // ... as their ray met the light sheet nowhere
+  bool laser_pose_inverse_fits = false;  // laser::InverseLaserPoseFits on the first line
   // Frames whose scene is at full scale in the laser's colour on at least
   // laser::kClippedFrameShare of the image away from the line, and the
   // share over all frames (laser::MeasureClipping).

@@ -164,9 +164,11 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
     motion_filter_->End(detection->candidates, *profile);
     detection->candidates = {};
   }
-  if (!laser_pose_checked_ && detection->points.size() >= kLaserPoseCheckPoints) {
+  if (!laser_pose_checked_ && detection->points.size() >= laser::kPoseCheckPoints) {
     laser_pose_checked_ = true;
-    CheckLaserPose(*detection, angle, *profile);
+    report_->laser_pose_inverse_fits =
+        laser::InverseLaserPoseFits(camera_, laser_, camera_from_laser_, angle, detection->points,
+                                    *profile, job_.max_range_error_per_px);
   }
   report_->triangulation_failures += profile->failed;
   report_->grazing_points += profile->grazing;
@@ -193,18 +195,8 @@ void LineStage::CheckLaserOn(size_t i) {
                              detector_)
           .points.size();
   lit_image_ = cv::Mat();
-  if (found >= kLaserPoseCheckPoints && found >= 4 * lit_points_)
+  if (found >= laser::kPoseCheckPoints && found >= 4 * lit_points_)
     report_->laser_on_inverted_at = static_cast<int>(frames_[i].index);
-}
-
-void LineStage::CheckLaserPose(const laser::Detection& detection, double angle,
-                               const laser::Profile& profile) {
-  const double found = static_cast<double>(detection.points.size());
-  if (profile.failed < 0.2 * found) return;
-  const laser::Profile inverse = laser::TriangulateProfile(
-      camera_, laser_, laser::CameraFromLaserAtAngle(camera_from_laser_.Inverse(), angle),
-      detection.points, profile.frame, job_.max_range_error_per_px);
-  report_->laser_pose_inverse_fits = inverse.failed + inverse.grazing <= 0.02 * found;
 }
 
 // The line in one frame; on servo scans, candidates standing where

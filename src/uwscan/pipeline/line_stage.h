@@ -42,8 +42,6 @@ class LineStage {
   // lines are searched whole again (a line that appeared far from the
   // last one on a scan line that has it, or one a window followed astray).
   static constexpr int kWholeScanEvery = 10;
-  // Line points a frame needs for CheckLaserPose to judge from it.
-  static constexpr size_t kLaserPoseCheckPoints = 20;
   // A point found on a scan line without a prior continues the line when
   // near the prior of a scan line this close.
   static constexpr int kPriorNeighbourLines = 32;
@@ -62,9 +60,6 @@ class LineStage {
   // Whether the line found with line_prior_ has points off it (something
   // that appeared; then the frame is detected again on whole scan lines).
   bool OffThePrior(const laser::Detection& detection) const;
-  // Where many of a frame's line points miss the light sheet: whether the
-  // inverse of the laser's pose in rig.yaml would place them all (a
-  // laser_from_camera transform given as camera_from_laser).
   // Interleaved scans, at the first laser-off frame after a laser-on one:
   // whether the line shows far more clearly in its difference to that
   // frame than the other way round (frames.csv's laser_on inverted).
@@ -72,8 +67,6 @@ class LineStage {
   // The first frame with the laser on, where its colour (rig.yaml's
   // wavelength_nm) shows hardly a line: whether another colour shows one.
   void CheckLaserColour(const cv::Mat& image, const laser::Detection& detection);
-  void CheckLaserPose(const laser::Detection& detection, double angle,
-                      const laser::Profile& profile);
   // A detected point's scan line and position along it.
   std::pair<int, float> OnScanLine(const laser::LaserPoint& p) const;
   void StartSweepFilter();
@@ -101,7 +94,7 @@ class LineStage {
   cv::Mat dark_image_;         // the last laser-off frame of an interleaved scan
   int first_image_type_ = -1;  // the first frame's OpenCV type: every frame's
   size_t dark_frame_ = 0;
-  bool laser_pose_checked_ = false;  // CheckLaserPose ran (on the first frame with a line)
+  bool laser_pose_checked_ = false;  // laser::InverseLaserPoseFits ran (first frame with a line)
   // Interleaved scans: the first laser-on frame's image and line points
   // (after a laser-off one), until CheckLaserOn ran on the frame after it.
   bool laser_on_checked_ = false;

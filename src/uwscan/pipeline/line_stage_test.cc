@@ -14,6 +14,7 @@
 #include "uwscan/io/image.h"
 #include "uwscan/io/rig_yaml.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
+#include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/testing.h"
 #include "uwscan/util/atomic_file.h"
@@ -315,6 +316,16 @@ TEST(ReconstructLaserPose, AnInvertedLaserPoseIsNamed) {
                "met the laser's light sheet nowhere in front of the camera and are left out: "
                "the laser's pose in rig.yaml looks inverted") != std::string::npos;
   })) << (warnings.empty() ? "no warning" : warnings.front());
+
+  // `laser detect --profiles` finds the same.
+  LaserDetectJob detect;
+  detect.dataset_dir = job.dataset;
+  detect.detections_csv = root / "detections.csv";
+  detect.profiles_csv = root / "profiles.csv";
+  detect.quiet = true;
+  const LaserDetectSummary detected = RunLaserDetect(detect);
+  EXPECT_TRUE(detected.laser_pose_inverse_fits);
+  EXPECT_GT(detected.missed_points, right.points / 4);
   fs::remove_all(root);
 }
 

@@ -11,6 +11,7 @@
 
 #include "uwscan/io/image.h"
 #include "uwscan/laser/clipping.h"
+#include "uwscan/laser/profile.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/vo_run.h"
 #include "uwscan/util/error.h"
@@ -197,22 +198,9 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                        " % of the frames with the laser on (turbid or dark water, the line out "
                        "of view or too weak): those frames add nothing to the cloud");
   }
-  // Line points whose ray misses the light sheet: none where rig.yaml holds
-  // the laser that drew the line.
-  if (triangulation_failures > 0 &&
-      triangulation_failures >= 0.05 * (points + grazing_points + triangulation_failures)) {
-    warnings.push_back(fmt::format(
-        "{} line point(s) ({:.0f} %) met the laser's light sheet nowhere in front of the camera "
-        "and are left out: {}",
-        triangulation_failures,
-        100.0 * triangulation_failures / (points + grazing_points + triangulation_failures),
-        laser_pose_inverse_fits
-            ? "the laser's pose in rig.yaml looks inverted, as its inverse places every point of "
-              "the first frame with a line (a laser_from_camera transform given as "
-              "camera_from_laser?)"
-            : "the laser's pose or bend in rig.yaml does not match the line seen (another "
-              "laser's calibration? `uwscan calibrate laser` measures it)"));
-  }
+  const std::string missed = laser::MissedSheetWarning(
+      triangulation_failures, points + grazing_points, laser_pose_inverse_fits);
+  if (!missed.empty()) warnings.push_back(missed);
   const std::string slow = SlowFramesWarning(frame_gaps, "frames.csv");
   if (!slow.empty()) warnings.push_back(slow);
   if (frame_gaps.missing > 0) {
