@@ -41,10 +41,12 @@ void ReuseLargeBuffers() {
 int main(int argc, char** argv) {
   ReuseLargeBuffers();
   // Ceres logs a solver's routine recoveries (a Levenberg-Marquardt step the
-  // linear solver refused, retried with more damping) as glog warnings:
-  // the user sees its errors only, on stderr, and no log files.
+  // linear solver refused, retried with more damping) as glog warnings, and
+  // a solve it gave up as an error; uwscan reads every solver's summary and
+  // says what failed in its own words (a single `uwscan: error:` line), so
+  // only glog's fatal messages reach stderr, and no log files are written.
   FLAGS_logtostderr = true;
-  FLAGS_minloglevel = google::GLOG_ERROR;
+  FLAGS_minloglevel = google::GLOG_FATAL;
   google::InitGoogleLogging(argv[0]);
   CLI::App app{"uwscan: underwater optical 3D scanning with flat-port cameras and line lasers"};
   app.require_subcommand(1);

@@ -1,5 +1,7 @@
 #include "uwscan/calib/calibration_pipeline.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -110,6 +112,20 @@ CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options) 
       UWS_CHECK(water.set.width == air.set.width && water.set.height == air.set.height,
                 options.water.string(), ": water images are ", water.set.width, "x",
                 water.set.height, " but air images are ", air.set.width, "x", air.set.height);
+      // The usual shortcut, for comparison: a pinhole calibrated under
+      // water. Its focal length is about n_water times the lens's in air
+      // (paraxial refraction at the flat port): much less, and the two
+      // folders are swapped or the "water" views were taken dry.
+      const CameraCalibrationResult pin_water =
+          CalibratePinhole(water.set, camera, options.calibration);
+      const double magnification = pin_water.camera.intrinsics[0] / pinhole.camera.intrinsics[0];
+      UWS_CHECK(magnification >= 1.0 + 0.3 * (options.n_water - 1.0), options.water.string(),
+                ": a pinhole fitted to these views has ", fmt::format("{:.3f}", magnification),
+                " times the focal length of one fitted to ", options.images.string(),
+                ", where water behind a flat port gives about ",
+                fmt::format("{:.2f}", options.n_water), ": ",
+                magnification < 1.0 ? "are --images (in air) and --water swapped?"
+                                    : "were these views taken in air, not in water?");
       WaterRefinementOptions water_options;
       water_options.common = options.calibration;
       water_options.n_water = options.n_water;
@@ -125,9 +141,6 @@ CameraPipelineResult RunCameraCalibration(const CameraPipelineOptions& options) 
                    : CalibrateFlatPortJoint(air.set, in_air, water.set, water_options);
       out.log.push_back(Summary(result));
       report["stages"].push_back(CameraResultToJson(result));
-      // The usual shortcut, for comparison: a pinhole calibrated under water.
-      const CameraCalibrationResult pin_water =
-          CalibratePinhole(water.set, camera, options.calibration);
       out.log.push_back(Summary(pin_water) + "  (pinhole on the water images)");
       report["pinhole_in_water"] = CameraResultToJson(pin_water);
       report["pinhole_vs_flatport"] =

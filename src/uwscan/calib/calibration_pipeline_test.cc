@@ -13,6 +13,7 @@
 #include "uwscan/calib/board_render.h"
 #include "uwscan/calib/synthetic_views.h"
 #include "uwscan/io/rig_yaml.h"
+#include "uwscan/util/error.h"
 
 namespace uwscan {
 namespace {
@@ -76,6 +77,26 @@ TEST(CalibrationPipeline, FlatPortFromRenderedAirAndWaterImages) {
   options.n_water = 1.333;
   options.calibration.fix_k3 = true;
   const CameraPipelineResult out = RunCameraCalibration(options);
+  // The two folders swapped, or the "water" views taken in air: a pinhole
+  // fitted to them is 1 / 1.33 or 1 times as long in focal length as one
+  // fitted in air, not about 1.33 times; the error says which.
+  const auto error_of = [&](const fs::path& images, const fs::path& water) {
+    CameraPipelineOptions wrong = options;
+    wrong.images = images;
+    wrong.water = water;
+    try {
+      RunCameraCalibration(wrong);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(
+      error_of(root / "water", root / "air").find("are --images (in air) and --water swapped?"),
+      std::string::npos);
+  EXPECT_NE(
+      error_of(root / "air", root / "air").find("were these views taken in air, not in water?"),
+      std::string::npos);
   fs::remove_all(root);
   for (const std::string& line : out.log) std::printf("%s\n", line.c_str());
   const Camera& c = out.result.camera;
