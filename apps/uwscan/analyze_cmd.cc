@@ -20,6 +20,11 @@ struct AnalyzePortArgs {
 void RunAnalyzePort(const AnalyzePortArgs& args) {
   UWS_USAGE_CHECK(std::isfinite(args.depth) && args.depth > 0.05,
                   "--depth must be a distance > 0.05 m, got ", args.depth);
+  // The distance the camera looks at, not the water's depth nor millimetres.
+  UWS_USAGE_CHECK(args.depth <= 100.0, "--depth is the distance (m) from the camera to the plane ",
+                  "the pinhole is fitted on, at most 100 m (an optical scanner sees some metres), "
+                  "got ",
+                  args.depth);
   const Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
   UWS_CHECK(camera.IsFlatPort(), args.rig, ": camera '", camera.name,
@@ -67,7 +72,9 @@ void RegisterAnalyzeCommands(CLI::App& app) {
       "Error of the best pinhole approximation of a flat-port camera, and the optimal d_air");
   port->add_option("--rig", args->rig, "rig.yaml")->required();
   port->add_option("--camera", args->camera, "camera name (default: the first)");
-  port->add_option("--depth", args->depth, "depth of the fitting plane (m)")->capture_default_str();
+  port->add_option("--depth", args->depth,
+                   "distance (m) from the camera to the plane the pinhole is fitted on")
+      ->capture_default_str();
   port->callback([args] { RunAnalyzePort(*args); });
 }
 

@@ -64,6 +64,10 @@ done
 "$bin" analyze port --rig "$dir/rig.yaml" --depth 2 >"$dir/analyze.txt" || fail "analyze port"
 grep -q "(fit depth)" "$dir/analyze.txt" || fail "analyze output"
 grep -q "image corner" "$dir/analyze.txt" || fail "analyze d_air"
+# The water's depth (or millimetres) given for the distance looked at: a usage error.
+"$bin" analyze port --rig "$dir/rig.yaml" --depth 2000 >/dev/null 2>"$dir/err"
+[ $? -eq 2 ] || fail "--depth 2000 should exit 2"
+grep -q "distance (m) from the camera .* at most 100 m" "$dir/err" || fail "--depth 2000: $(cat "$dir/err")"
 
 # Errors: bad input exits 1 with one line naming the file; usage exits 2.
 "$bin" camera project --rig "$dir/missing.yaml" --in "$dir/points.csv" --out "$dir/x.csv" 2>"$dir/err"
