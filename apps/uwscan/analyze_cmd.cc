@@ -18,13 +18,7 @@ struct AnalyzePortArgs {
 };
 
 void RunAnalyzePort(const AnalyzePortArgs& args) {
-  UWS_USAGE_CHECK(std::isfinite(args.depth) && args.depth > 0.05,
-                  "--depth must be a distance > 0.05 m, got ", args.depth);
-  // The distance the camera looks at, not the water's depth nor millimetres.
-  UWS_USAGE_CHECK(args.depth <= 100.0, "--depth is the distance (m) from the camera to the plane ",
-                  "the pinhole is fitted on, at most 100 m (an optical scanner sees some metres), "
-                  "got ",
-                  args.depth);
+  CheckViewingDistanceOption("--depth", args.depth, 0.05);
   const Rig rig = ReadRigYaml(args.rig);
   const Camera& camera = rig.CameraByName(args.camera);
   UWS_CHECK(camera.IsFlatPort(), args.rig, ": camera '", camera.name,

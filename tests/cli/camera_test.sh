@@ -67,7 +67,8 @@ grep -q "image corner" "$dir/analyze.txt" || fail "analyze d_air"
 # The water's depth (or millimetres) given for the distance looked at: a usage error.
 "$bin" analyze port --rig "$dir/rig.yaml" --depth 2000 >/dev/null 2>"$dir/err"
 [ $? -eq 2 ] || fail "--depth 2000 should exit 2"
-grep -q "distance (m) from the camera .* at most 100 m" "$dir/err" || fail "--depth 2000: $(cat "$dir/err")"
+grep -q -- "--depth is the distance (m) from the camera to what it looks at, at most 100 m" \
+  "$dir/err" || fail "--depth 2000: $(cat "$dir/err")"
 
 # Errors: bad input exits 1 with one line naming the file; usage exits 2.
 "$bin" camera project --rig "$dir/missing.yaml" --in "$dir/points.csv" --out "$dir/x.csv" 2>"$dir/err"

@@ -94,6 +94,10 @@ hate=$(sed -n 's/^ATE (after alignment): rmse \([0-9.]*\) m.*/\1/p' "$dir/heval"
 awk -v a="$hate" 'BEGIN { exit !(a < 0.004) }' || fail "half-resolution ATE $hate m too large"
 "$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --max-tracking-width -1 2>/dev/null
 [ $? -eq 2 ] || fail "--max-tracking-width -1: want exit 2"
+"$bin" vo --dataset "$dir/seq" --out "$dir/x.tum" --initial-depth 2000 2>"$dir/err"
+[ $? -eq 2 ] || fail "--initial-depth 2000: want exit 2"
+grep -q -- "--initial-depth is the distance (m) from the camera to what it looks at" "$dir/err" ||
+  fail "--initial-depth 2000: $(cat "$dir/err")"
 
 # Pinhole model runs too (bias is measured in the unit tests and BENCHMARKS.md).
 "$bin" vo --dataset "$dir/seq" --out "$dir/p.tum" --model pinhole --quiet || fail "pinhole run"

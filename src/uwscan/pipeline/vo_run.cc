@@ -50,8 +50,7 @@ void VoJob::Check() const {
   if (model != "flatport" && model != "pinhole") {
     throw UsageError("--model must be flatport or pinhole, not '" + model + "'");
   }
-  UWS_USAGE_CHECK(std::isfinite(pinhole_fit_depth_m) && pinhole_fit_depth_m > 0.05,
-                  "--pinhole-fit-depth must be a distance > 0.05 m, got ", pinhole_fit_depth_m);
+  CheckViewingDistanceOption("--pinhole-fit-depth", pinhole_fit_depth_m, 0.05);
   UWS_USAGE_CHECK(std::isfinite(mask_margin_px) && mask_margin_px >= 0,
                   "--mask-margin must be a number of pixels >= 0, got ", mask_margin_px);
   if (max_tracking_width < 0) throw UsageError("--max-tracking-width must be >= 0");
@@ -95,9 +94,7 @@ void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
     throw UsageError("--max-dormant-frames must be >= 0, got " +
                      std::to_string(tracker.max_dormant_frames));
   }
-  UWS_USAGE_CHECK(
-      std::isfinite(odometry.initial_median_depth_m) && odometry.initial_median_depth_m > 0,
-      "--initial-depth must be a distance > 0 m, got ", odometry.initial_median_depth_m);
+  CheckViewingDistanceOption("--initial-depth", odometry.initial_median_depth_m, 0.0);
 }
 
 VoRunSummary RunVisualOdometry(const VoJob& job) {

@@ -196,6 +196,15 @@ std::string ImageSizeMismatch(const Camera& camera, int cols, int rows) {
   return out.str();
 }
 
+void CheckViewingDistanceOption(const std::string& option, double metres, double min_m) {
+  UWS_USAGE_CHECK(std::isfinite(metres) && metres > min_m, option, " must be a distance > ", min_m,
+                  " m, got ", metres);
+  UWS_USAGE_CHECK(metres <= 100.0, option,
+                  " is the distance (m) from the camera to what it looks at, at most 100 m (an "
+                  "optical scanner sees some metres), got ",
+                  metres);
+}
+
 Camera Camera::Flat1() { return ThesisCamera(Eigen::Vector3d(0, 0, 1), 0.005); }
 Camera Camera::Flat2() { return ThesisCamera(Eigen::Vector3d(0, 0, 1), 0.010); }
 Camera Camera::Flat3() { return ThesisCamera(Eigen::Vector3d(0.02, -0.01, 1), 0.005); }

@@ -106,4 +106,9 @@ Camera ScaledCamera(const Camera& camera, double factor);
 // resized), with the intrinsics for their size; or turned by 90 degrees.
 std::string ImageSizeMismatch(const Camera& camera, int cols, int rows);
 
+// An option giving the distance the camera looks at (m): throws
+// uwscan::UsageError unless finite and in (min_m, 100] (an optical scanner
+// sees some metres; 2000 is the water's depth or millimetres).
+void CheckViewingDistanceOption(const std::string& option, double metres, double min_m);
+
 }  // namespace uwscan
