@@ -91,14 +91,14 @@ class LineStage {
   std::vector<std::pair<float, float>> line_prior_;
   int prior_lines_ = 0;
   int windowed_frames_ = 0;
-  cv::Mat dark_image_;         // the last laser-off frame of an interleaved scan
-  int first_image_type_ = -1;  // the first frame's OpenCV type: every frame's
+  cv::Mat dark_image_;  // the last laser-off frame of an interleaved scan, and its index
   size_t dark_frame_ = 0;
-  bool laser_pose_checked_ = false;  // laser::InverseLaserPoseFits ran (first frame with a line)
+  int first_image_type_ = -1;          // the first frame's OpenCV type, which every frame must have
+  bool laser_pose_checked_ = false;    // laser::InverseLaserPoseFits ran (first frame with a line)
+  bool laser_colour_checked_ = false;  // CheckLaserColour ran (first frame with the laser on)
   // Interleaved scans: the first laser-on frame's image and line points
   // (after a laser-off one), until CheckLaserOn ran on the frame after it.
   bool laser_on_checked_ = false;
-  bool laser_colour_checked_ = false;
   cv::Mat lit_image_;
   size_t lit_frame_ = 0, lit_points_ = 0;
 };
