@@ -95,32 +95,34 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   }
   TrajectoryMetrics metrics;
   metrics.associated = int(est.size());
-  const auto time_span = [](const auto& poses) {
-    if (poses.empty()) return std::string("none");
-    const auto [first, last] = std::minmax_element(
-        poses.begin(), poses.end(),
-        [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
-    return internal::Concat(first->timestamp_s, " to ", last->timestamp_s, " s");
-  };
-  // Spans about a thousand times apart: one of the two in milliseconds.
-  const auto duration = [](const std::vector<StampedPose>& poses) {
-    double first = 0.0, last = 0.0;
-    for (size_t i = 0; i < poses.size(); ++i) {
-      first = i == 0 ? poses[i].timestamp_s : std::min(first, poses[i].timestamp_s);
-      last = i == 0 ? poses[i].timestamp_s : std::max(last, poses[i].timestamp_s);
-    }
-    return last - first;
-  };
-  const double est_duration = duration(estimate), gt_duration = duration(gt_sorted);
-  const auto thousandfold = [](double a, double b) { return a > 500.0 * b && a < 2000.0 * b; };
-  const std::string unit_hint =
-      thousandfold(est_duration, gt_duration)   ? ": the estimate's times in milliseconds?"
-      : thousandfold(gt_duration, est_duration) ? ": the ground truth's times in milliseconds?"
-                                                : "";
-  UWS_CHECK(est.size() >= 3, "trajectory metrics: only ", est.size(),
-            " poses associate with the ground truth by timestamp (need >= 3; within ",
-            options.max_time_difference_s, " s; the estimate's times ", time_span(estimate),
-            ", the ground truth's ", time_span(gt_sorted), unit_hint, ")");
+  if (est.size() < 3) {
+    // Both files' time spans; about a thousand times apart, one of the two
+    // is in milliseconds.
+    const auto span = [](const std::vector<StampedPose>& poses) {
+      if (poses.empty()) return std::pair<double, double>(0.0, 0.0);
+      const auto [first, last] = std::minmax_element(
+          poses.begin(), poses.end(),
+          [](const StampedPose& a, const StampedPose& b) { return a.timestamp_s < b.timestamp_s; });
+      return std::pair(first->timestamp_s, last->timestamp_s);
+    };
+    const auto text = [](const std::vector<StampedPose>& poses, std::pair<double, double> times) {
+      return poses.empty() ? std::string("none")
+                           : internal::Concat(times.first, " to ", times.second, " s");
+    };
+    const auto est_span = span(estimate), gt_span = span(gt_sorted);
+    const double est_duration = est_span.second - est_span.first;
+    const double gt_duration = gt_span.second - gt_span.first;
+    const auto thousandfold = [](double a, double b) { return a > 500.0 * b && a < 2000.0 * b; };
+    UWS_THROW("trajectory metrics: only ", est.size(),
+              " poses associate with the ground truth by timestamp (need >= 3; within ",
+              options.max_time_difference_s, " s; the estimate's times ", text(estimate, est_span),
+              ", the ground truth's ", text(gt_sorted, gt_span),
+              thousandfold(est_duration, gt_duration) ? ": the estimate's times in milliseconds?"
+              : thousandfold(gt_duration, est_duration)
+                  ? ": the ground truth's times in milliseconds?"
+                  : "",
+              ")");
+  }
 
   std::vector<Eigen::Vector3d> est_positions, gt_positions;
   for (size_t i = 0; i < est.size(); ++i) {
