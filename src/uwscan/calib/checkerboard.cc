@@ -81,7 +81,7 @@ BoardDetection DetectBoard(const cv::Mat& image, const BoardSpec& board,
   // the detector's own histogram equalisation. A 16-bit frame is stretched
   // from its own samples, not from their top 8 bits: a 10- or 12-bit
   // camera's frames hold theirs in the low bits.
-  const double full_scale = gray.depth() == CV_16U ? 65535.0 : 255.0;
+  const double full_scale = FullScale(gray);
   double lowest = 0.0, highest = 0.0;
   cv::minMaxLoc(gray, &lowest, &highest);
   if (highest > lowest && highest < 0.5 * full_scale) {

@@ -62,10 +62,9 @@ std::string ImageTypeName(int type) {
   return std::to_string(CV_MAT_CN(type)) + "-channel " + bits;
 }
 
-namespace {
-
-// The largest sample of an 8- or 16-bit image (frames are one or the other).
 double FullScale(const cv::Mat& image) { return image.depth() == CV_16U ? 65535.0 : 255.0; }
+
+namespace {
 
 // The means of a single-channel 8- or 16-bit image's four 2x2 pixel phases
 // (row-major: (0,0), (0,1), (1,0), (1,1)) as fractions of full scale; none

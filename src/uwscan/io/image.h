@@ -52,6 +52,9 @@ void ScaleLowBitSamples(cv::Mat* image, int sample_bits, const std::filesystem::
 // (A 14-bit camera's would be a quarter of full scale: too like a dark
 // 16-bit frame to say.)
 int LowSampleBits(const cv::Mat& image);
+// The largest sample of an 8- or 16-bit image (frames are one or the
+// other): 65535 for 16 bits, else 255.
+double FullScale(const cv::Mat& image);
 // The share of an image's samples (all channels) above 2 % of full scale.
 // A frame with almost none (under kBlackFrameLitShare) is black: a lens
 // cap, the lights off, an exposure far too short. A laser line alone, in

@@ -213,12 +213,14 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
               ": only 8- and 16-bit images are supported");
     PrepareFrame(&image, job.sample_bits, images[i]);
     const auto layout = laser::LayoutFor(camera ? camera->bayer : "none", image.channels());
-    if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1) {
+    const bool first_read =
+        summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1;
+    if (first_read) {
       summary.first_frame = InspectFrame(image, images[i], camera ? camera->bayer : "none",
                                          camera != nullptr, job.sample_bits);
     }
     const laser::Detection detection = laser::DetectLaserLine(image, layout, options);
-    if (summary.frames - summary.frames_laser_off - summary.unreadable_frames == 1) {
+    if (first_read) {
       const int seen = laser::OtherColourOfTheLine(image, layout, options, detection.points.size());
       const bool from_rig = laser && job.channel == "auto";
       if (seen >= 0) {
