@@ -100,7 +100,10 @@ void RegisterEvaluateCommand(CLI::App& app) {
                        "also write the figures as JSON here (trajectory; clouds with --result)");
   evaluate->add_option("--lengths", options->drift_lengths_m,
                        "drift path lengths in m (default: 10..50 % of the path)");
-  evaluate->add_option("--rpe-step", options->rpe_step, "RPE frame step")->capture_default_str();
+  auto* rpe_step_given = evaluate->add_option(
+      "--rpe-step", options->rpe_step,
+      "RPE between poses this many ground-truth frames apart (default: the estimate's own step, "
+      "1 for a pose every frame)");
   evaluate
       ->add_option("--max-dt", options->max_time_difference_s,
                    "timestamp association tolerance (s)")
@@ -125,7 +128,8 @@ void RegisterEvaluateCommand(CLI::App& app) {
     for (double length : options->drift_lengths_m) {
       UWS_USAGE_CHECK(length > 0, "--lengths must be path lengths > 0 (m), got ", length);
     }
-    UWS_USAGE_CHECK(options->rpe_step >= 1, "--rpe-step must be >= 1, got ", options->rpe_step);
+    UWS_USAGE_CHECK(rpe_step_given->count() == 0 || options->rpe_step >= 1,
+                    "--rpe-step must be >= 1, got ", options->rpe_step);
     UWS_USAGE_CHECK(options->max_time_difference_s >= 0,
                     "--max-dt must be a time difference >= 0 (s), got ",
                     options->max_time_difference_s);

@@ -46,7 +46,7 @@ done
 # RPE over no pair (a step longer than the sequence) is said, not printed as 0, and null in JSON.
 "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --rpe-step 1000 \
   --json "$dir/no_rpe.json" >"$dir/no_rpe" || fail "evaluate --rpe-step 1000"
-grep -q "^RPE per frame: no pair of poses" "$dir/no_rpe" || fail "RPE over no pair: $(cat "$dir/no_rpe")"
+grep -q "^RPE per 1000 frames: no pair of poses" "$dir/no_rpe" || fail "RPE over no pair: $(cat "$dir/no_rpe")"
 python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['trajectory']['rpe']; \
 assert r['pairs'] == 0 and r['translation_rmse_m'] is None, r" "$dir/no_rpe.json" ||
   fail "RPE over no pair in the JSON"

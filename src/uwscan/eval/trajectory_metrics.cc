@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <random>
 #include <utility>
 
@@ -51,13 +52,26 @@ Rigid3d RelativeError(const Rigid3d& gt_i, const Rigid3d& gt_j, const Rigid3d& e
   return (gt_i.Inverse() * gt_j).Inverse() * (est_i.Inverse() * est_j);
 }
 
+// The most common step between consecutive ground-truth indices (the
+// smaller on a tie; 1 for fewer than two).
+int MostCommonStep(const std::vector<long>& gt_index) {
+  std::map<long, int> counts;
+  for (size_t i = 1; i < gt_index.size(); ++i) ++counts[gt_index[i] - gt_index[i - 1]];
+  long step = 1;
+  int most = 0;
+  for (const auto& [candidate, count] : counts) {
+    if (count > most && candidate >= 1) step = candidate, most = count;
+  }
+  return int(step);
+}
+
 }  // namespace
 
 void TrajectoryMetricsOptions::Check() const {
   UWS_CHECK(max_time_difference_s >= 0, "max_time_difference_s must be >= 0");
   UWS_CHECK(!std::isnan(rpe_from_s) && !std::isnan(rpe_to_s) && rpe_from_s <= rpe_to_s,
             "the RPE's time range must be a range, got ", rpe_from_s, " to ", rpe_to_s);
-  UWS_CHECK(rpe_step >= 1, "rpe_step must be >= 1");
+  UWS_CHECK(rpe_step >= 0, "rpe_step must be >= 0 (0: the estimate's own)");
   UWS_CHECK(drift_start_step >= 1, "drift_start_step must be >= 1");
   UWS_CHECK(motion_lag >= 0, "motion_lag must be >= 0");
   UWS_CHECK(viewed_depth_m >= 0 && std::isfinite(viewed_depth_m),
@@ -167,11 +181,12 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
 
   // RPE between ground-truth frames `rpe_step` apart (pairs across a
   // tracking gap are skipped).
+  metrics.rpe_step = options.rpe_step > 0 ? options.rpe_step : MostCommonStep(gt_index);
   double t_sq = 0, r_sq = 0, t_sum = 0, r_sum = 0;
   for (size_t i = 0; i + 1 < est.size(); ++i) {
     size_t j = i + 1;
-    while (j < est.size() && gt_index[j] - gt_index[i] < options.rpe_step) ++j;
-    if (j >= est.size() || gt_index[j] - gt_index[i] != options.rpe_step) continue;
+    while (j < est.size() && gt_index[j] - gt_index[i] < metrics.rpe_step) ++j;
+    if (j >= est.size() || gt_index[j] - gt_index[i] != metrics.rpe_step) continue;
     if (stamps[i] < options.rpe_from_s || stamps[j] > options.rpe_to_s) continue;
     const Rigid3d error = RelativeError(gt[i], gt[j], aligned[i], aligned[j]);
     const double t = error.translation.norm(), r = AngleDeg(error.rotation);
@@ -279,7 +294,8 @@ nlohmann::json TrajectoryMetrics::ToJson() const {
       {"ate_m",
        {{"rmse", ate_rmse_m}, {"mean", ate_mean_m}, {"median", ate_median_m}, {"max", ate_max_m}}},
       {"rpe",
-       {{"pairs", rpe_pairs},
+       {{"step", rpe_step},
+        {"pairs", rpe_pairs},
         {"translation_rmse_m", ValueOrNull(rpe_pairs > 0, rpe_trans_rmse_m)},
         {"rotation_rmse_deg", ValueOrNull(rpe_pairs > 0, rpe_rot_rmse_deg)},
         {"translation_mean_m", ValueOrNull(rpe_pairs > 0, rpe_trans_mean_m)},
@@ -321,13 +337,14 @@ std::string FormatTrajectoryMetrics(const TrajectoryMetrics& m) {
                 "ATE (after alignment): rmse %.4f m, mean %.4f m, median %.4f m, max %.4f m\n",
                 m.ate_rmse_m, m.ate_mean_m, m.ate_median_m, m.ate_max_m);
   out += buffer;
+  const std::string per =
+      m.rpe_step == 1 ? "RPE per frame" : "RPE per " + std::to_string(m.rpe_step) + " frames";
   if (m.rpe_pairs > 0) {
-    std::snprintf(buffer, sizeof(buffer),
-                  "RPE per frame: %.3f mm, %.3f mdeg (rmse over %d pairs)\n",
-                  1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg, m.rpe_pairs);
+    std::snprintf(buffer, sizeof(buffer), "%s: %.3f mm, %.3f mdeg (rmse over %d pairs)\n",
+                  per.c_str(), 1e3 * m.rpe_trans_rmse_m, 1e3 * m.rpe_rot_rmse_deg, m.rpe_pairs);
   } else {
     std::snprintf(buffer, sizeof(buffer),
-                  "RPE per frame: no pair of poses the step apart within the time range\n");
+                  "%s: no pair of poses the step apart within the time range\n", per.c_str());
   }
   out += buffer;
   if (m.drift_segments > 0) {

@@ -18,7 +18,10 @@ namespace uwscan {
 struct TrajectoryMetricsOptions {
   double max_time_difference_s = 1e-3;  // timestamp association tolerance
   bool align_scale = true;              // Sim(3); false: SE(3)
-  int rpe_step = 1;                     // RPE between ground-truth frames i and i + step
+  // RPE between ground-truth frames i and i + step; 0: the estimate's own
+  // step, the most common one between its consecutive poses (1 for an
+  // estimate of every frame, 5 for every 5th frame of the ground truth's).
+  int rpe_step = 0;
   // RPE only over pairs inside [rpe_from_s, rpe_to_s] (e.g. the hover part
   // of a sequence); the alignment still uses every pose.
   double rpe_from_s = -1e300, rpe_to_s = 1e300;
@@ -52,7 +55,9 @@ struct TrajectoryMetrics {
   double scale_interval_low = 1.0, scale_interval_high = 1.0;
   // ATE on positions after alignment (m).
   double ate_rmse_m = 0, ate_mean_m = 0, ate_median_m = 0, ate_max_m = 0;
-  // RPE per `rpe_step` (m, deg), after applying the alignment scale.
+  // RPE per `rpe_step` ground-truth frames (m, deg), after applying the
+  // alignment scale.
+  int rpe_step = 1;
   double rpe_trans_rmse_m = 0, rpe_rot_rmse_deg = 0;
   double rpe_trans_mean_m = 0, rpe_rot_mean_deg = 0;
   int rpe_pairs = 0;

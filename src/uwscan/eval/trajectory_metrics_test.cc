@@ -109,6 +109,38 @@ TEST(TrajectoryMetrics, PerfectEstimateAndGaps) {
   EXPECT_THROW(ComputeTrajectoryMetrics(late, truth), Error);
 }
 
+// An estimate of every 5th frame (a 28.8 Hz camera against 144 Hz ground
+// truth) has no pair of poses one ground-truth frame apart: by default the
+// RPE is taken over the estimate's own step, and says which.
+TEST(TrajectoryMetrics, RpeOverTheEstimatesOwnStep) {
+  std::vector<StampedPose> truth, estimate;
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d position(0.001 * i, 0.0, 0.01 * std::sin(0.1 * i));
+    truth.push_back({i / 144.0, Rigid3d({1, 0, 0, 0}, position)});
+    // Every 5th, each 1 mm off along y, alternately: 2 mm between steps.
+    const Eigen::Vector3d off(0.0, i % 10 ? 0.001 : -0.001, 0.0);
+    if (i % 5 == 0) estimate.push_back({i / 144.0, Rigid3d({1, 0, 0, 0}, position + off)});
+  }
+  TrajectoryMetricsOptions options;
+  options.align_scale = false;
+  const TrajectoryMetrics own = ComputeTrajectoryMetrics(estimate, truth, options);
+  EXPECT_EQ(own.rpe_step, 5);
+  EXPECT_EQ(own.rpe_pairs, 19);
+  EXPECT_NEAR(own.rpe_trans_rmse_m, 0.002, 1e-9);
+  EXPECT_NE(FormatTrajectoryMetrics(own).find("RPE per 5 frames: 2.000 mm"), std::string::npos)
+      << FormatTrajectoryMetrics(own);
+  EXPECT_EQ(own.ToJson()["rpe"]["step"], 5);
+  // A step asked for is kept: one frame apart, no pair.
+  options.rpe_step = 1;
+  const TrajectoryMetrics asked = ComputeTrajectoryMetrics(estimate, truth, options);
+  EXPECT_EQ(asked.rpe_step, 1);
+  EXPECT_EQ(asked.rpe_pairs, 0);
+  // An estimate of every frame, with a gap: one frame.
+  std::vector<StampedPose> gapped = truth;
+  gapped.erase(gapped.begin() + 40, gapped.begin() + 60);
+  EXPECT_EQ(ComputeTrajectoryMetrics(gapped, truth).rpe_step, 1);
+}
+
 // The same 2 mm of smooth position error pins the scale of a 20 m transect
 // down to a fraction of a per cent, and that of a hover spanning 3 cm only to
 // several per cent: the block-bootstrap interval says so, and holds the

@@ -19,19 +19,25 @@ nlohmann::json ReconstructionEvaluation::ToJson() const {
 
 std::map<int, Rigid3d> PosesByFrame(const fs::path& tum, const fs::path& frames_csv) {
   const auto frames = ReadFramesCsv(frames_csv);
-  const auto poses = ReadTum(tum);
+  const auto poses = ReadTum(tum);  // by increasing time
   UWS_CHECK(!frames.empty(), frames_csv.string(), ": no frames");
   const double interval = frames.size() > 1 ? MeanFrameInterval(frames) : 1.0;
+  // Each frame takes the pose nearest its time. A trajectory denser than
+  // the frames (144 Hz truth against every 5th frame) has several within
+  // half an interval of each frame; any but the nearest is another time's.
   std::map<int, Rigid3d> by_frame;
-  for (const auto& pose : poses) {
-    const auto nearest =
-        std::min_element(frames.begin(), frames.end(), [&](const auto& a, const auto& b) {
-          return std::abs(a.timestamp_s - pose.timestamp_s) <
-                 std::abs(b.timestamp_s - pose.timestamp_s);
-        });
-    if (std::abs(nearest->timestamp_s - pose.timestamp_s) <= 0.5 * interval + 1e-9) {
-      by_frame[nearest->index] = pose.world_from_camera;
+  for (const FrameRecord& frame : frames) {
+    const auto after =
+        std::lower_bound(poses.begin(), poses.end(), frame.timestamp_s,
+                         [](const StampedPose& pose, double t) { return pose.timestamp_s < t; });
+    const StampedPose* nearest = nullptr;
+    double nearest_dt = 0.5 * interval + 1e-9;
+    for (auto candidate : {after, after == poses.begin() ? after : after - 1}) {
+      if (candidate == poses.end()) continue;
+      const double dt = std::abs(candidate->timestamp_s - frame.timestamp_s);
+      if (dt <= nearest_dt) nearest_dt = dt, nearest = &*candidate;
     }
+    if (nearest != nullptr) by_frame[frame.index] = nearest->world_from_camera;
   }
   return by_frame;
 }

@@ -19,7 +19,8 @@ struct ReconstructionEvaluation {
 };
 
 // Frame index of each pose of a TUM trajectory, matched to frames.csv
-// timestamps (nearest, within half a frame interval).
+// timestamps: each frame takes the pose nearest its time, if within half
+// the frames' mean interval.
 std::map<int, Rigid3d> PosesByFrame(const std::filesystem::path& tum,
                                     const std::filesystem::path& frames_csv);
 

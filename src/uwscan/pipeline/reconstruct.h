@@ -146,6 +146,14 @@ struct ReconstructJob {
   // real time (the 144 Hz tank scan: real-time factor 0.99-1.13 -> 1.06-1.22
   // on two cores, its clouds within the seeds' spread, BENCHMARKS.md).
   std::optional<bool> async_bundle_adjustment;
+  // The poses' smoothing over +-N frames (SelfReferencedOptions::
+  // smoothing_half_window, which this sets); unset (auto): the frames
+  // within kSmoothingHalfSpanS, from frames.csv's timestamps. The 10 frames
+  // chosen at the thesis camera's 144 Hz span 69 ms of a hover's motion; 10
+  // frames of a 28.8 Hz camera span 0.35 s, which bends it (the tank's
+  // distance error 0.35 % against 0.06 % with 2, BENCHMARKS.md).
+  std::optional<int> smoothing_half_window;
+  static constexpr double kSmoothingHalfSpanS = 10.0 / 144.0;
   void Check() const;
 };
 
@@ -237,6 +245,7 @@ struct ReconstructReport {
   fusion::PoseChange passes_settled_within;
   int track_every = 1;                   // the odometry's, as used (ReconstructJob::track_every)
   bool async_bundle_adjustment = false;  // as used (ReconstructJob::async_bundle_adjustment)
+  int smoothing_half_window = 0;         // as used (ReconstructJob::smoothing_half_window)
   double seconds_earlier_passes = 0.0;   // of the passes before the last (included in `seconds`)
   // The tracked image's width of a first attempt run again at half of it
   // (ReconstructJob::retry_smaller_tracking), and how far that attempt's
@@ -289,6 +298,13 @@ std::optional<double> ParseContrastScale(const std::string& value);
 // ReconstructJob::track_every for these frames, auto resolved from their
 // timestamps.
 int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);
+// --smoothing-half-window's value: "auto" (unset) or a count >= 0; else a
+// UsageError.
+std::optional<int> ParseSmoothingHalfWindow(const std::string& value);
+// ReconstructJob::smoothing_half_window for these frames, auto resolved
+// from their timestamps (without time between them: the 144 Hz count).
+int ResolveSmoothingHalfWindow(std::optional<int> half_window,
+                               const std::vector<FrameRecord>& frames);
 // ReconstructJob::async_bundle_adjustment for these frames, auto resolved
 // from their timestamps.
 bool ResolveAsyncBundleAdjustment(std::optional<bool> async,

@@ -35,9 +35,9 @@ void ReconstructJob::Check() const {
                      std::to_string(self_referenced.max_tracking_width));
   CheckOdometryFlags(self_referenced.odometry);
   if (contrast_scale) CheckContrastScale(*contrast_scale);  // replaces self_referenced's
-  if (self_referenced.smoothing_half_window < 0) {
-    throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses), got " +
-                     std::to_string(self_referenced.smoothing_half_window));
+  if (smoothing_half_window && *smoothing_half_window < 0) {
+    throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses) or auto, got " +
+                     std::to_string(*smoothing_half_window));
   }
   if (self_referenced.init_refinements < 0) {
     throw UsageError("--init-refinements must be >= 0, got " +
@@ -136,6 +136,24 @@ int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
   const double rate_hz = 1.0 / interval_s;
   return std::max(1,
                   static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxTrackedRateHz - 1e-9)));
+}
+
+std::optional<int> ParseSmoothingHalfWindow(const std::string& value) {
+  if (value == "auto") return std::nullopt;
+  int count = 0;
+  if (!ReadWhole(value, &count) || count < 0)
+    throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses) or auto, got '" + value +
+                     "'");
+  return count;
+}
+
+int ResolveSmoothingHalfWindow(std::optional<int> half_window,
+                               const std::vector<FrameRecord>& frames) {
+  if (half_window) return *half_window;
+  const double interval_s = MeanFrameInterval(frames);
+  const double span_s = ReconstructJob::kSmoothingHalfSpanS;
+  if (!(interval_s > 0.0)) return static_cast<int>(std::lround(span_s * 144.0));
+  return static_cast<int>(std::lround(span_s / interval_s));
 }
 
 bool ResolveAsyncBundleAdjustment(std::optional<bool> async,
@@ -492,6 +510,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"retried_start_last_change_mm", retried_start_change_mm},
       {"tracking_retry_failed", tracking_retry_failed},
       {"track_every", track_every},
+      {"smoothing_half_window", smoothing_half_window},
       {"line_window_px", line_window_px},
       {"frames_line_window_redone", frames_line_window_redone},
       {"async_bundle_adjustment", async_bundle_adjustment},
