@@ -8,7 +8,7 @@
 namespace uwscan::laser {
 
 void SweepFilterOptions::Check() const {
-  UWS_CHECK(focal_px > 0.0 && min_expected_shift_px > 0.0 && max_lag_frames >= 1 &&
+  UWS_CHECK(focal_px > 0.0 && min_expected_shift_px > 0.0 && max_lag_s > 0.0 &&
                 static_tolerance_px >= 0.0 && tolerance_of_shift > 0.0 &&
                 tolerance_of_shift < 1.0 && line_search >= 0,
             "sweep filter: invalid options");
@@ -18,10 +18,12 @@ SweepFilter::SweepFilter(const SweepFilterOptions& options) : options_(options) 
   options_.Check();
 }
 
-void SweepFilter::Begin(int frame, double servo_angle_rad) {
-  frame_ = frame;
+void SweepFilter::Begin(double timestamp_s, double servo_angle_rad) {
+  timestamp_s_ = timestamp_s;
   angle_rad_ = servo_angle_rad;
-  while (!history_.empty() && frame - history_.front().frame > options_.max_lag_frames)
+  // (A microsecond's slack: frames exactly max_lag_s apart stay.)
+  while (!history_.empty() &&
+         timestamp_s - history_.front().timestamp_s > options_.max_lag_s + 1e-6)
     history_.pop_front();
   references_.clear();
   for (const Past& past : history_) {
@@ -50,7 +52,7 @@ bool SweepFilter::IsStatic(double position, int line, bool strict) const {
 
 void SweepFilter::End(const std::vector<LaserPoint>& candidates) {
   Past now;
-  now.frame = frame_;
+  now.timestamp_s = timestamp_s_;
   now.angle_rad = angle_rad_;
   if (!candidates.empty()) {
     const auto line_of = [&](const LaserPoint& p) {

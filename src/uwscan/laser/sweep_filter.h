@@ -27,7 +27,12 @@ struct SweepFilterOptions {
   double focal_px = 500.0;             // camera focal length across the line
   bool scan_rows = true;               // as DetectorOptions::scan_rows
   double min_expected_shift_px = 8.0;  // compare with a frame the sheet has turned this far from
-  int max_lag_frames = 40;             // ... at most this many frames ago (slow platform motion)
+  // ... at most this long ago: 40 frames of the thesis camera's 144 Hz,
+  // over which a hover moves the scene by little. A time, not a count of
+  // frames: 40 frames of a 28.8 Hz camera span 1.4 s, over which the hover
+  // moved the line as far as the sheet, and whole lines were taken for
+  // stripes (BENCHMARKS.md, "Cameras slower than 144 Hz").
+  double max_lag_s = 40.0 / 144.0;
   // "Stood there": within this, or this share of the sheet's shift since
   // (the scene drifts across the image with the hover meanwhile; half the
   // shift is the midpoint between "stayed with the scene" and "moved with
@@ -41,9 +46,10 @@ struct SweepFilterOptions {
 class SweepFilter {
  public:
   explicit SweepFilter(const SweepFilterOptions& options);
-  // Starts frame `frame` with the sheet at `servo_angle_rad`: picks the
-  // earlier frames the sheet has turned far enough from.
-  void Begin(int frame, double servo_angle_rad);
+  // Starts the frame taken at `timestamp_s` with the sheet at
+  // `servo_angle_rad`: picks the earlier frames the sheet has turned far
+  // enough from.
+  void Begin(double timestamp_s, double servo_angle_rad);
   // Whether a candidate at `position` (across the line, full-resolution px)
   // on scan line `line` stood there in one of those frames.
   // `strict`: within static_tolerance_px only, whatever the shift.
@@ -56,7 +62,7 @@ class SweepFilter {
 
  private:
   struct Past {
-    int frame = 0;
+    double timestamp_s = 0.0;
     double angle_rad = 0.0;
     // Candidate positions per scan line: positions[line_start[l - first_line] ..
     // line_start[l - first_line + 1]).
@@ -66,7 +72,7 @@ class SweepFilter {
   };
   SweepFilterOptions options_;
   std::deque<Past> history_;
-  int frame_ = 0;
+  double timestamp_s_ = 0.0;
   double angle_rad_ = 0.0;
   std::vector<std::pair<const Past*, double>> references_;  // frame, tolerance
 };

@@ -207,7 +207,7 @@ laser::Detection LineStage::Detect(const cv::Mat& image, const FrameRecord& reco
   laser::DetectorOptions options = detector_;
   const bool sweeping = sweep_filter_ && record.laser_angle_rad;
   if (sweeping) {
-    sweep_filter_->Begin(record.index, *record.laser_angle_rad);
+    sweep_filter_->Begin(record.timestamp_s, *record.laser_angle_rad);
     options.exclude_candidate = sweep_filter_->Predicate();
     options.exclude_candidate_on_restore = sweep_filter_->Predicate(/*strict=*/true);
     options.keep_candidates = true;
@@ -297,7 +297,9 @@ void LineStage::StartSweepFilter() {
   const bool interleaved = !frames_.empty() && frames_.front().laser_on.has_value();
   if (interleaved || frames_.empty() || !frames_.front().laser_angle_rad) return;
   const double start = *frames_.front().laser_angle_rad;
-  for (size_t k = 1; k < frames_.size() && k <= size_t(sweep.max_lag_frames); ++k) {
+  for (size_t k = 1; k < frames_.size() &&
+                     frames_[k].timestamp_s - frames_.front().timestamp_s <= sweep.max_lag_s + 1e-6;
+       ++k) {
     if (!frames_[k].laser_angle_rad ||
         sweep.focal_px * std::abs(*frames_[k].laser_angle_rad - start) <
             2.0 * sweep.min_expected_shift_px) {
