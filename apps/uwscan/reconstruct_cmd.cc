@@ -137,7 +137,7 @@ void RegisterReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--smoothing-half-window", *smoothing_half_window,
                   "poses smoothed over +-N frames (quadratic fit), output N frames late (0 = "
-                  "raw); auto: the frames within 69 ms (10 at 144 Hz, 2 at 30 Hz)")
+                  "raw); auto: 10, but at most the frames within 0.2 s (6 at 30 Hz, 3 at 15 Hz)")
       ->capture_default_str();
   cmd->add_option("--init-refinements", job->self_referenced.init_refinements,
                   "times the frames held at the start are at least tracked and their laser "

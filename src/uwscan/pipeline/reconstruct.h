@@ -147,13 +147,16 @@ struct ReconstructJob {
   // on two cores, its clouds within the seeds' spread, BENCHMARKS.md).
   std::optional<bool> async_bundle_adjustment;
   // The poses' smoothing over +-N frames (SelfReferencedOptions::
-  // smoothing_half_window, which this sets); unset (auto): the frames
-  // within kSmoothingHalfSpanS, from frames.csv's timestamps. The 10 frames
-  // chosen at the thesis camera's 144 Hz span 69 ms of a hover's motion; 10
-  // frames of a 28.8 Hz camera span 0.35 s, which bends it (the tank's
-  // distance error 0.35 % against 0.06 % with 2, BENCHMARKS.md).
+  // smoothing_half_window, which this sets); unset (auto): 10 frames, but
+  // no more than kSmoothingMaxHalfSpanS, from frames.csv's timestamps. 10
+  // frames span 69 ms at the thesis camera's 144 Hz and 0.2 s on the 50 Hz
+  // hulls, both measured at length; 10 frames of a 28.8 Hz camera span
+  // 0.35 s, over which the quadratic fit bends a hover's motion (the
+  // tank's distance error 0.25-0.53 %, 0.06-0.11 % with 6 frames;
+  // BENCHMARKS.md, "Cameras slower than 144 Hz").
   std::optional<int> smoothing_half_window;
-  static constexpr double kSmoothingHalfSpanS = 10.0 / 144.0;
+  static constexpr int kSmoothingHalfWindow = 10;
+  static constexpr double kSmoothingMaxHalfSpanS = 0.2;
   void Check() const;
 };
 
@@ -302,7 +305,7 @@ int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);
 // UsageError.
 std::optional<int> ParseSmoothingHalfWindow(const std::string& value);
 // ReconstructJob::smoothing_half_window for these frames, auto resolved
-// from their timestamps (without time between them: the 144 Hz count).
+// from their timestamps (without time between them: 10).
 int ResolveSmoothingHalfWindow(std::optional<int> half_window,
                                const std::vector<FrameRecord>& frames);
 // ReconstructJob::async_bundle_adjustment for these frames, auto resolved

@@ -150,10 +150,11 @@ std::optional<int> ParseSmoothingHalfWindow(const std::string& value) {
 int ResolveSmoothingHalfWindow(std::optional<int> half_window,
                                const std::vector<FrameRecord>& frames) {
   if (half_window) return *half_window;
+  const int frames_count = ReconstructJob::kSmoothingHalfWindow;
   const double interval_s = MeanFrameInterval(frames);
-  const double span_s = ReconstructJob::kSmoothingHalfSpanS;
-  if (!(interval_s > 0.0)) return static_cast<int>(std::lround(span_s * 144.0));
-  return static_cast<int>(std::lround(span_s / interval_s));
+  if (!(interval_s > 0.0)) return frames_count;
+  const long within_span = std::lround(ReconstructJob::kSmoothingMaxHalfSpanS / interval_s);
+  return static_cast<int>(std::min<long>(frames_count, within_span));
 }
 
 bool ResolveAsyncBundleAdjustment(std::optional<bool> async,

@@ -356,25 +356,29 @@ TEST(ReconstructTrackEvery, AutoFollowsTheFrameRate) {
   EXPECT_TRUE(ResolveAsyncBundleAdjustment(true, frames_at(15.0, 50)));
 }
 
-// --smoothing-half-window auto: the frames within 69 ms, the 10 frames of
-// the thesis camera's 144 Hz (a 28.8 Hz camera's 10 frames span 0.35 s of a
-// hover's motion, which the quadratic fit bends); a count given is kept.
-TEST(ReconstructSmoothing, AutoSpansTheSameTimeAtAnyFrameRate) {
+// --smoothing-half-window auto: 10 frames (69 ms at the thesis camera's
+// 144 Hz, 0.2 s at the hulls' 50 Hz), but no more than the frames within
+// 0.2 s (10 frames of a 28.8 Hz camera span 0.35 s of a hover's motion,
+// which the quadratic fit bends); a count given is kept.
+TEST(ReconstructSmoothing, AutoSpansAtMostAFifthOfASecond) {
   const auto frames_at = [](double rate_hz, int count) {
     std::vector<FrameRecord> frames(count);
     for (int i = 0; i < count; ++i) frames[i].timestamp_s = 3.0 + i / rate_hz;
     return frames;
   };
   EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(144.0, 50)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(72.0, 50)), 5);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(28.8, 50)), 2);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(30.0, 50)), 2);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(250.0, 50)), 17);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(10.0, 50)), 1);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(5.0, 50)), 0);  // raw
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(250.0, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(50.0, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(48.0, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(30.0, 50)), 6);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(28.8, 50)), 6);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(15.0, 50)), 3);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(5.0, 50)), 1);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(2.0, 50)), 0);  // raw
   EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(28.8, 1)), 10);
   EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, std::vector<FrameRecord>(5)), 10);
   EXPECT_EQ(ResolveSmoothingHalfWindow(10, frames_at(28.8, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(2, frames_at(28.8, 50)), 2);
   EXPECT_EQ(ResolveSmoothingHalfWindow(0, frames_at(144.0, 50)), 0);
   EXPECT_EQ(ParseSmoothingHalfWindow("auto"), std::nullopt);
   EXPECT_EQ(ParseSmoothingHalfWindow("0"), 0);
