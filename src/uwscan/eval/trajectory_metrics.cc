@@ -92,15 +92,8 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StampedPose>& estim
   std::vector<long> gt_index;  // position in the time-sorted ground truth
   std::vector<double> stamps;
   for (const StampedPose& pose : estimate) {
-    auto it = std::lower_bound(gt_sorted.begin(), gt_sorted.end(), pose.timestamp_s,
-                               [](const StampedPose& a, double t) { return a.timestamp_s < t; });
-    const StampedPose* best = nullptr;
-    double best_dt = options.max_time_difference_s;
-    for (auto candidate : {it, it == gt_sorted.begin() ? it : it - 1}) {
-      if (candidate == gt_sorted.end()) continue;
-      const double dt = std::abs(candidate->timestamp_s - pose.timestamp_s);
-      if (dt <= best_dt) best_dt = dt, best = &*candidate;
-    }
+    const StampedPose* best =
+        NearestInTime(gt_sorted, pose.timestamp_s, options.max_time_difference_s);
     if (best == nullptr) continue;
     est.push_back(pose.world_from_camera);
     gt.push_back(best->world_from_camera);

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -37,5 +39,20 @@ TumWriter::TumWriter(const std::filesystem::path& path) : file_(path) {
 }
 
 void TumWriter::Add(const StampedPose& pose) { file_.stream() << TumLine(pose); }
+
+const StampedPose* NearestInTime(const std::vector<StampedPose>& by_time, double timestamp_s,
+                                 double max_dt_s) {
+  const auto after =
+      std::lower_bound(by_time.begin(), by_time.end(), timestamp_s,
+                       [](const StampedPose& pose, double t) { return pose.timestamp_s < t; });
+  const StampedPose* nearest = nullptr;
+  double nearest_dt = max_dt_s;
+  for (auto candidate : {after, after == by_time.begin() ? after : after - 1}) {
+    if (candidate == by_time.end()) continue;
+    const double dt = std::abs(candidate->timestamp_s - timestamp_s);
+    if (dt <= nearest_dt) nearest_dt = dt, nearest = &*candidate;
+  }
+  return nearest;
+}
 
 }  // namespace uwscan

@@ -21,6 +21,11 @@ std::string TumLine(const StampedPose& pose);
 // Throws uwscan::Error naming the file and line.
 std::vector<StampedPose> ReadTum(const std::filesystem::path& path);
 void WriteTum(const std::filesystem::path& path, const std::vector<StampedPose>& poses);
+// The pose of `by_time` (timestamps not decreasing) nearest `timestamp_s`
+// (the earlier of two as near), if no more than `max_dt_s` away; nullptr
+// otherwise.
+const StampedPose* NearestInTime(const std::vector<StampedPose>& by_time, double timestamp_s,
+                                 double max_dt_s);
 
 // Streams poses to a file, renamed into place by Commit().
 class TumWriter {

@@ -111,5 +111,23 @@ TEST(TumTrajectory, TimestampsMustIncrease) {
   std::filesystem::remove(path);
 }
 
+// The pose nearest a time, within a tolerance; the earlier of two as near.
+TEST(Tum, NearestInTime) {
+  std::vector<StampedPose> poses;
+  for (int i = 0; i < 5; ++i) poses.push_back({0.1 * i, Rigid3d({1, 0, 0, 0}, {double(i), 0, 0})});
+  const auto nearest = [&](double t, double max_dt) {
+    const StampedPose* pose = NearestInTime(poses, t, max_dt);
+    return pose ? pose->world_from_camera.translation.x() : -1.0;
+  };
+  EXPECT_EQ(nearest(0.21, 0.05), 2.0);
+  EXPECT_EQ(nearest(0.29, 0.05), 3.0);
+  EXPECT_EQ(nearest(0.25, 0.06), 2.0);  // as near as 3: the earlier
+  EXPECT_EQ(nearest(-0.02, 0.05), 0.0);
+  EXPECT_EQ(nearest(0.43, 0.05), 4.0);
+  EXPECT_EQ(nearest(0.25, 0.04), -1.0);  // none within
+  EXPECT_EQ(nearest(0.6, 0.05), -1.0);
+  EXPECT_EQ(NearestInTime({}, 0.0, 1.0), nullptr);
+}
+
 }  // namespace
 }  // namespace uwscan

@@ -27,16 +27,7 @@ std::map<int, Rigid3d> PosesByFrame(const fs::path& tum, const fs::path& frames_
   // half an interval of each frame; any but the nearest is another time's.
   std::map<int, Rigid3d> by_frame;
   for (const FrameRecord& frame : frames) {
-    const auto after =
-        std::lower_bound(poses.begin(), poses.end(), frame.timestamp_s,
-                         [](const StampedPose& pose, double t) { return pose.timestamp_s < t; });
-    const StampedPose* nearest = nullptr;
-    double nearest_dt = 0.5 * interval + 1e-9;
-    for (auto candidate : {after, after == poses.begin() ? after : after - 1}) {
-      if (candidate == poses.end()) continue;
-      const double dt = std::abs(candidate->timestamp_s - frame.timestamp_s);
-      if (dt <= nearest_dt) nearest_dt = dt, nearest = &*candidate;
-    }
+    const StampedPose* nearest = NearestInTime(poses, frame.timestamp_s, 0.5 * interval + 1e-9);
     if (nearest != nullptr) by_frame[frame.index] = nearest->world_from_camera;
   }
   return by_frame;
