@@ -21,9 +21,7 @@ SweepFilter::SweepFilter(const SweepFilterOptions& options) : options_(options) 
 void SweepFilter::Begin(double timestamp_s, double servo_angle_rad) {
   timestamp_s_ = timestamp_s;
   angle_rad_ = servo_angle_rad;
-  // (A microsecond's slack: frames exactly max_lag_s apart stay.)
-  while (!history_.empty() &&
-         timestamp_s - history_.front().timestamp_s > options_.max_lag_s + 1e-6)
+  while (!history_.empty() && !options_.WithinLag(timestamp_s - history_.front().timestamp_s))
     history_.pop_front();
   references_.clear();
   for (const Past& past : history_) {

@@ -33,6 +33,9 @@ struct SweepFilterOptions {
   // moved the line as far as the sheet, and whole lines were taken for
   // stripes (BENCHMARKS.md, "Cameras slower than 144 Hz").
   double max_lag_s = 40.0 / 144.0;
+  // Whether a frame `dt_s` earlier is within max_lag_s (a microsecond's
+  // slack: frames exactly that far apart are).
+  bool WithinLag(double dt_s) const { return dt_s <= max_lag_s + 1e-6; }
   // "Stood there": within this, or this share of the sheet's shift since
   // (the scene drifts across the image with the hover meanwhile; half the
   // shift is the midpoint between "stayed with the scene" and "moved with

@@ -297,8 +297,8 @@ void LineStage::StartSweepFilter() {
   const bool interleaved = !frames_.empty() && frames_.front().laser_on.has_value();
   if (interleaved || frames_.empty() || !frames_.front().laser_angle_rad) return;
   const double start = *frames_.front().laser_angle_rad;
-  for (size_t k = 1; k < frames_.size() &&
-                     frames_[k].timestamp_s - frames_.front().timestamp_s <= sweep.max_lag_s + 1e-6;
+  for (size_t k = 1;
+       k < frames_.size() && sweep.WithinLag(frames_[k].timestamp_s - frames_.front().timestamp_s);
        ++k) {
     if (!frames_[k].laser_angle_rad ||
         sweep.focal_px * std::abs(*frames_[k].laser_angle_rad - start) <

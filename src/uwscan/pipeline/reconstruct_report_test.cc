@@ -1,12 +1,15 @@
 // The report's warnings: what degraded a reconstruction and why, in words
 // a user can act on (ReconstructReport::Warnings), and report.json; the
-// job's checks of how to read an external trajectory.
+// job's checks of how to read an external trajectory, and its options
+// resolved from the frame rate.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "uwscan/io/dataset.h"
 #include "uwscan/laser/detector.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/util/error.h"
@@ -308,6 +311,64 @@ TEST(ReconstructJobTest, PosesOfAnotherBodyAndClockAreReadOrRefused) {
   job.poses_body_from_camera = Rigid3d();
   job.poses_file.reset();
   EXPECT_THROW(job.Check(), UsageError);
+}
+
+// `count` frames at `rate_hz`, from 3 s on.
+std::vector<FrameRecord> FramesAt(double rate_hz, int count) {
+  std::vector<FrameRecord> frames(count);
+  for (int i = 0; i < count; ++i) frames[i].timestamp_s = 3.0 + i / rate_hz;
+  return frames;
+}
+
+// --track-every auto: the fewest N that keep the tracked rate at or below
+// 100 Hz; a count given is kept.
+TEST(ReconstructTrackEvery, AutoFollowsTheFrameRate) {
+  EXPECT_EQ(ResolveTrackEvery(0, FramesAt(144.0, 50)), 2);
+  EXPECT_EQ(ResolveTrackEvery(0, FramesAt(100.0, 50)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, FramesAt(50.0, 50)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, FramesAt(15.0, 50)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, FramesAt(250.0, 50)), 3);
+  EXPECT_EQ(ResolveTrackEvery(0, FramesAt(144.0, 1)), 1);
+  EXPECT_EQ(ResolveTrackEvery(0, std::vector<FrameRecord>(5)), 1);  // no time between frames
+  EXPECT_EQ(ResolveTrackEvery(3, FramesAt(50.0, 50)), 3);
+  EXPECT_EQ(ResolveTrackEvery(1, FramesAt(144.0, 50)), 1);
+  EXPECT_EQ(ParseTrackEvery("auto"), 0);
+  EXPECT_EQ(ParseTrackEvery("2"), 2);
+  for (const char* bad : {"0", "-1", "2x", "", "two"})
+    EXPECT_THROW(ParseTrackEvery(bad), UsageError) << bad;
+  // The windowed BA goes to a second thread where frames are skipped.
+  EXPECT_TRUE(ResolveAsyncBundleAdjustment(std::nullopt, FramesAt(144.0, 50)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, FramesAt(100.0, 50)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, FramesAt(50.0, 50)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, FramesAt(144.0, 1)));
+  EXPECT_FALSE(ResolveAsyncBundleAdjustment(false, FramesAt(144.0, 50)));
+  EXPECT_TRUE(ResolveAsyncBundleAdjustment(true, FramesAt(15.0, 50)));
+}
+
+// --smoothing-half-window auto: 10 frames (69 ms at the thesis camera's
+// 144 Hz, 0.2 s at the hulls' 50 Hz), but no more than the frames within
+// 0.2 s (10 frames of a 28.8 Hz camera span 0.35 s of a hover's motion,
+// which the quadratic fit bends); a count given is kept.
+TEST(ReconstructSmoothing, AutoSpansAtMostAFifthOfASecond) {
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(144.0, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(250.0, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(50.0, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(48.0, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(30.0, 50)), 6);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(28.8, 50)), 6);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(15.0, 50)), 3);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(5.0, 50)), 1);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(2.0, 50)), 0);  // raw
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, FramesAt(28.8, 1)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, std::vector<FrameRecord>(5)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(10, FramesAt(28.8, 50)), 10);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(2, FramesAt(28.8, 50)), 2);
+  EXPECT_EQ(ResolveSmoothingHalfWindow(0, FramesAt(144.0, 50)), 0);
+  EXPECT_EQ(ParseSmoothingHalfWindow("auto"), std::nullopt);
+  EXPECT_EQ(ParseSmoothingHalfWindow("0"), 0);
+  EXPECT_EQ(ParseSmoothingHalfWindow("12"), 12);
+  for (const char* bad : {"-1", "2x", "", "ten"})
+    EXPECT_THROW(ParseSmoothingHalfWindow(bad), UsageError) << bad;
 }
 
 }  // namespace

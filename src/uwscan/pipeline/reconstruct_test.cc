@@ -326,67 +326,6 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   fs::remove_all(root);
 }
 
-// --track-every auto: the fewest N that keep the tracked rate at or below
-// 100 Hz; a count given is kept.
-TEST(ReconstructTrackEvery, AutoFollowsTheFrameRate) {
-  const auto frames_at = [](double rate_hz, int count) {
-    std::vector<FrameRecord> frames(count);
-    for (int i = 0; i < count; ++i) frames[i].timestamp_s = 3.0 + i / rate_hz;
-    return frames;
-  };
-  EXPECT_EQ(ResolveTrackEvery(0, frames_at(144.0, 50)), 2);
-  EXPECT_EQ(ResolveTrackEvery(0, frames_at(100.0, 50)), 1);
-  EXPECT_EQ(ResolveTrackEvery(0, frames_at(50.0, 50)), 1);
-  EXPECT_EQ(ResolveTrackEvery(0, frames_at(15.0, 50)), 1);
-  EXPECT_EQ(ResolveTrackEvery(0, frames_at(250.0, 50)), 3);
-  EXPECT_EQ(ResolveTrackEvery(0, frames_at(144.0, 1)), 1);
-  EXPECT_EQ(ResolveTrackEvery(0, std::vector<FrameRecord>(5)), 1);  // no time between frames
-  EXPECT_EQ(ResolveTrackEvery(3, frames_at(50.0, 50)), 3);
-  EXPECT_EQ(ResolveTrackEvery(1, frames_at(144.0, 50)), 1);
-  EXPECT_EQ(ParseTrackEvery("auto"), 0);
-  EXPECT_EQ(ParseTrackEvery("2"), 2);
-  for (const char* bad : {"0", "-1", "2x", "", "two"})
-    EXPECT_THROW(ParseTrackEvery(bad), UsageError) << bad;
-  // The windowed BA goes to a second thread where frames are skipped.
-  EXPECT_TRUE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(144.0, 50)));
-  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(100.0, 50)));
-  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(50.0, 50)));
-  EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, frames_at(144.0, 1)));
-  EXPECT_FALSE(ResolveAsyncBundleAdjustment(false, frames_at(144.0, 50)));
-  EXPECT_TRUE(ResolveAsyncBundleAdjustment(true, frames_at(15.0, 50)));
-}
-
-// --smoothing-half-window auto: 10 frames (69 ms at the thesis camera's
-// 144 Hz, 0.2 s at the hulls' 50 Hz), but no more than the frames within
-// 0.2 s (10 frames of a 28.8 Hz camera span 0.35 s of a hover's motion,
-// which the quadratic fit bends); a count given is kept.
-TEST(ReconstructSmoothing, AutoSpansAtMostAFifthOfASecond) {
-  const auto frames_at = [](double rate_hz, int count) {
-    std::vector<FrameRecord> frames(count);
-    for (int i = 0; i < count; ++i) frames[i].timestamp_s = 3.0 + i / rate_hz;
-    return frames;
-  };
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(144.0, 50)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(250.0, 50)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(50.0, 50)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(48.0, 50)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(30.0, 50)), 6);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(28.8, 50)), 6);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(15.0, 50)), 3);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(5.0, 50)), 1);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(2.0, 50)), 0);  // raw
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, frames_at(28.8, 1)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(std::nullopt, std::vector<FrameRecord>(5)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(10, frames_at(28.8, 50)), 10);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(2, frames_at(28.8, 50)), 2);
-  EXPECT_EQ(ResolveSmoothingHalfWindow(0, frames_at(144.0, 50)), 0);
-  EXPECT_EQ(ParseSmoothingHalfWindow("auto"), std::nullopt);
-  EXPECT_EQ(ParseSmoothingHalfWindow("0"), 0);
-  EXPECT_EQ(ParseSmoothingHalfWindow("12"), 12);
-  for (const char* bad : {"-1", "2x", "", "ten"})
-    EXPECT_THROW(ParseSmoothingHalfWindow(bad), UsageError) << bad;
-}
-
 // --contrast-scale auto: a fixed laser scans by the platform's motion,
 // which carries the seabed's texture through the light's whole fall-off;
 // equalising the tracked image's contrast then halves the trajectory error
