@@ -147,15 +147,14 @@ struct ReconstructJob {
   // on two cores, its clouds within the seeds' spread, BENCHMARKS.md).
   std::optional<bool> async_bundle_adjustment;
   // The poses' smoothing over +-N frames (SelfReferencedOptions::
-  // smoothing_half_window, which this sets); unset (auto): 10 frames, but
-  // no more than kSmoothingMaxHalfSpanS, from frames.csv's timestamps. 10
-  // frames span 69 ms at the thesis camera's 144 Hz and 0.2 s on the 50 Hz
-  // hulls, both measured at length; 10 frames of a 28.8 Hz camera span
-  // 0.35 s, over which the quadratic fit bends a hover's motion (the
-  // tank's distance error 0.25-0.53 %, 0.06-0.11 % with 6 frames;
-  // BENCHMARKS.md, "Cameras slower than 144 Hz").
+  // smoothing_half_window, which this sets); unset (auto): that option's
+  // 10 frames, but no more than kSmoothingMaxHalfSpanS, from frames.csv's
+  // timestamps. 10 frames span 69 ms at the thesis camera's 144 Hz and
+  // 0.2 s on the 50 Hz hulls, both measured at length; 10 frames of a
+  // 28.8 Hz camera span 0.35 s, over which the quadratic fit bends a
+  // hover's motion (the tank's distance error 0.25-0.53 %, 0.06-0.11 %
+  // with 6 frames; BENCHMARKS.md, "Cameras slower than 144 Hz").
   std::optional<int> smoothing_half_window;
-  static constexpr int kSmoothingHalfWindow = 10;
   static constexpr double kSmoothingMaxHalfSpanS = 0.2;
   void Check() const;
 };

@@ -150,7 +150,7 @@ std::optional<int> ParseSmoothingHalfWindow(const std::string& value) {
 int ResolveSmoothingHalfWindow(std::optional<int> half_window,
                                const std::vector<FrameRecord>& frames) {
   if (half_window) return *half_window;
-  const int frames_count = ReconstructJob::kSmoothingHalfWindow;
+  const int frames_count = fusion::SelfReferencedOptions().smoothing_half_window;
   const double interval_s = MeanFrameInterval(frames);
   if (!(interval_s > 0.0)) return frames_count;
   const long within_span = std::lround(ReconstructJob::kSmoothingMaxHalfSpanS / interval_s);
