@@ -30,6 +30,8 @@ void SelfReferencedOptions::Check() const {
             " and ", max_init_refinements);
   UWS_CHECK(init_settled_m > 0 && init_settled_deg > 0, context,
             "the settled start's tolerances must be > 0");
+  UWS_CHECK(min_start_plane_view_cosine >= 0 && min_start_plane_view_cosine <= 1, context,
+            "the start plane's view cosine must be in [0, 1], got ", min_start_plane_view_cosine);
   UWS_CHECK(init_converging_ratio > 0 && init_converging_ratio <= 1, context,
             "the start's converging ratio must be in (0, 1], got ", init_converging_ratio);
   UWS_CHECK(track_every >= 1, context, "track every N frames needs N >= 1, got ", track_every);
@@ -189,6 +191,12 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::AddFrame(const FrameInput& f
   return updates;
 }
 
+bool SelfReferencedPoseProvider::StartPlaneFacesCamera(const SurfaceModel& surface) const {
+  if (!options_.surface.extrapolate_plane) return true;
+  const std::optional<double> cosine = surface.DominantPlaneViewCosine();
+  return cosine && *cosine >= options_.min_start_plane_view_cosine;
+}
+
 std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // The held frames' profiles, placed with the first held frame's pose (or
   // where an earlier attempt tracked them): the platform moves while they
@@ -302,6 +310,17 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
       init_surface_.reset();
       return {};
     }
+  }
+  // Settled, but on a plane that runs through the camera: wait for more
+  // frames. (Checked here, not at each attempt and refinement: there it
+  // would refuse attempts that the refinements refuse anyway, and change
+  // where the tank's 144 Hz starts begin.)
+  if (!use_prior && !StartPlaneFacesCamera(*surface_)) {
+    ++init_refused_;
+    odometry_.reset();
+    surface_.reset();
+    init_surface_.reset();
+    return {};
   }
   running_ = true;
   guess_odometry_.reset();

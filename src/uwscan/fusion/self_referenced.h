@@ -75,6 +75,16 @@ struct SelfReferencedOptions {
   // plane (SurfaceModelOptions::min_plane_width_m): ~1 s at 144 Hz, where
   // the tank target's slowest sweep covers 5 cm in ~125 frames.
   int max_init_frames = 150;
+  // The plane the start settles on must face the first held frame: seen
+  // at most ~78 deg from its normal (SurfaceModel::DominantPlaneViewCosine);
+  // else the start is refused and waits for more frames. Profiles
+  // of a slow sweep whose platform moves so as to keep the line where it
+  // is in the image, placed with too little motion, spread along the rays
+  // that see the line: their plane runs through the camera, features take
+  // depths of a few centimetres from it, and tracking on it settles with
+  // the motion ten times too small (tank seed 103 at 14.4 Hz: 0.03 of the
+  // way to face on, 9.7x; the floor: 0.97).
+  double min_start_plane_view_cosine = 0.2;
   // Frames between initialisation attempts while the hold grows; once it
   // is full (max_init_frames) its size stays, and every frame whose held
   // profiles span the plane is an attempt. Spacing those moved tank seed
@@ -241,6 +251,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // The line mask dilated by mask_dilation_px, at the tracked size.
   cv::Mat TrackedLineMask(const cv::Mat& line_mask, const cv::Size& tracked) const;
   std::vector<PoseUpdate> TryInitialize();
+  // Whether the plane the start settled on faces the first held frame
+  // (min_start_plane_view_cosine; any plane without extrapolate_plane).
+  bool StartPlaneFacesCamera(const SurfaceModel& surface) const;
   // A new odometry on surface_, started at the first held frame; false (and
   // no odometry) if it cannot start there.
   bool StartOdometry(const Rigid3d& origin);
@@ -313,7 +326,8 @@ class SelfReferencedPoseProvider : public PoseProvider {
   bool init_settled_ = false;
   std::optional<PoseChange> init_last_change_;
   // Start attempts whose held frames, placed with their tracked poses, no
-  // longer spanned the scene's plane (their surface had one before).
+  // longer spanned the scene's plane (their surface had one before), or
+  // settled on a plane through the camera.
   int init_refused_ = 0;
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
   long line_ranges_ = 0;  // range constraints where map points met the laser line

@@ -275,6 +275,23 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
   return plane_;
 }
 
+std::optional<double> SurfaceModel::DominantPlaneViewCosine() const {
+  const auto& plane = DominantPlane();
+  if (!plane) return std::nullopt;
+  const Eigen::Vector3d& eye = world_from_reference_.translation;
+  const auto& [point, normal] = *plane;
+  std::vector<double> distances;
+  for (const auto& sample : samples_) {
+    if (std::abs(normal.dot(sample - point)) <= options_.plane_inlier_m)
+      distances.push_back((sample - eye).norm());
+  }
+  if (distances.empty()) return std::nullopt;
+  const auto middle = distances.begin() + static_cast<long>(distances.size() / 2);
+  std::nth_element(distances.begin(), middle, distances.end());
+  if (!(*middle > 0)) return std::nullopt;
+  return std::min(1.0, std::abs(normal.dot(eye - point)) / *middle);
+}
+
 void SurfaceModel::FindFrontSurface() const {
   front_points_.clear();
   const Eigen::Vector3d centre = world_from_reference_.translation;

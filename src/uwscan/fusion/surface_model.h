@@ -83,6 +83,11 @@ class SurfaceModel {
   long size() const { return Binned().points; }
   // Whether the laser points span enough to define the dominant plane.
   bool HasDominantPlane() const { return DominantPlane().has_value(); }
+  // How squarely the reference view sees the dominant plane: its distance
+  // to the plane over the median distance to the plane's points (1: face
+  // on; near 0: edge on, the plane runs through the camera); none without
+  // a plane.
+  std::optional<double> DominantPlaneViewCosine() const;
   // Whether a surface stands in front of the dominant plane
   // (SurfaceModelOptions::front_min_fraction).
   bool HasFrontSurface() const { return DominantPlane() && !front_points_.empty(); }

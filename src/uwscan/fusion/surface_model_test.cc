@@ -204,6 +204,60 @@ TEST(SurfaceModel, OneProfileGivesNoPlane) {
   EXPECT_NEAR(hit->point.y(), 0.3, 0.01);
 }
 
+// How squarely the reference view sees the dominant plane: the camera's
+// distance to it over the median distance to its points, checked against
+// the same computed from the profiles' points. Face on (z = 2), turned by
+// 60 deg about the line (distance 1 m), and a plane that runs 6 cm beside
+// the camera: copies of one profile (the line at y = 0.1, z = 2) spread in
+// range along the lines from that point, as profiles of a slow sweep are
+// when placed with too little motion (tank seed 103 at 14.4 Hz,
+// BENCHMARKS.md).
+TEST(SurfaceModel, ViewCosineSaysHowSquarelyThePlaneIsSeen) {
+  const Camera camera = Camera::Flat1();
+  const auto line = [](double y) {
+    laser::Profile profile;
+    for (double x = -0.6; x <= 0.6; x += 0.01)
+      profile.points.push_back({Eigen::Vector3d(x, y, 2.0), Eigen::Vector2d::Zero(), 1.0f});
+    return profile;
+  };
+  const auto expected = [](const std::vector<laser::Profile>& profiles, double distance_m) {
+    std::vector<double> ranges;
+    for (const auto& profile : profiles)
+      for (const auto& p : profile.points) ranges.push_back(p.point_in_camera.norm());
+    std::sort(ranges.begin(), ranges.end());
+    return distance_m / ranges[ranges.size() / 2];
+  };
+  const auto cosine = [&camera](const std::vector<laser::Profile>& profiles) {
+    SurfaceModel surface(camera, Rigid3d(), SurfaceModelOptions{});
+    for (const auto& profile : profiles) surface.AddProfile(Rigid3d(), profile);
+    EXPECT_TRUE(surface.HasDominantPlane());
+    return surface.DominantPlaneViewCosine().value_or(-1.0);
+  };
+
+  std::vector<laser::Profile> face_on, turned, through;
+  const Eigen::AngleAxisd turn(60.0 * M_PI / 180.0, Eigen::Vector3d::UnitX());
+  const Eigen::Vector3d pivot(0.0, 0.0, 2.0), beside(0.0, 0.06, 0.0);
+  for (int i = 0; i <= 10; ++i) {
+    face_on.push_back(line(0.01 * i));
+    turned.push_back(line(0.01 * i));
+    for (auto& p : turned.back().points)
+      p.point_in_camera = pivot + turn * (p.point_in_camera - pivot);
+    through.push_back(line(0.1));
+    for (auto& p : through.back().points)
+      p.point_in_camera = beside + (0.85 + 0.03 * i) * (p.point_in_camera - beside);
+  }
+  EXPECT_NEAR(cosine(face_on), expected(face_on, 2.0), 1e-9);
+  EXPECT_NEAR(cosine(turned), expected(turned, 1.0), 1e-9);
+  // The plane through `beside` and the line: normal along x x (0, 0.04, 2).
+  const Eigen::Vector3d normal =
+      Eigen::Vector3d::UnitX().cross(Eigen::Vector3d(0, 0.04, 2)).normalized();
+  const double through_cosine = cosine(through);
+  EXPECT_NEAR(through_cosine, expected(through, std::abs(normal.dot(beside))), 1e-9);
+  EXPECT_LT(through_cosine, 0.05);
+  // Without a plane, none.
+  EXPECT_FALSE(SurfaceModel(camera, Rigid3d(), SurfaceModelOptions{}).DominantPlaneViewCosine());
+}
+
 // A local plane is a measurement only where its points are: a hit of the
 // plane fitted around the band's edge that lies centimetres past the last
 // profile is as much an extrapolation as the dominant plane's farther out

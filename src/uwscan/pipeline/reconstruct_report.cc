@@ -276,8 +276,9 @@ std::vector<std::string> ReconstructReport::Warnings() const {
           "enough features are tracked";
       if (const int refused = count("start_attempts_refused"); refused > 0) {
         why += "; " + std::to_string(refused) +
-               " start attempt(s) found the held frames' profiles too narrow once tracked: the "
-               "laser sweeps slowly, or the platform moved with the sweep";
+               " start attempt(s) found the held frames' profiles too narrow once tracked, or "
+               "their plane running through the camera: the laser sweeps slowly, or the "
+               "platform moved with the sweep";
       }
       without_pose(waiting, " while the odometry waited to start", why);
     }
