@@ -6,6 +6,7 @@
 
 #include "uwscan/sim/renderer.h"
 #include "uwscan/sim/scenario.h"
+#include "uwscan/sim/testing.h"
 
 namespace uwscan::fusion {
 namespace {
@@ -17,12 +18,7 @@ namespace {
 // others get none; a point on a surface 40 % farther than the laser
 // measures (another surface on the ray) is not constrained either.
 TEST(LineRanges, MapPointsMeetingTheLineGetTheirRange) {
-  sim::ScenarioOptions scenario_options;
-  scenario_options.width = 320;
-  scenario_options.height = 240;
-  scenario_options.frames = 10;
-  sim::Scenario scenario = sim::MakeScenario("seabed-transect", scenario_options);
-  scenario.config.scene.Prepare();
+  const sim::Scenario scenario = sim::testing::SmallScenario("seabed-transect", 10);
   const sim::Renderer renderer(scenario.config);
   const sim::Trajectory trajectory(scenario.motion);
   const Camera& camera = renderer.camera();
@@ -61,7 +57,8 @@ TEST(LineRanges, MapPointsMeetingTheLineGetTheirRange) {
   }
   const uint64_t behind = add_point(profile.points[profile.points.size() / 2].pixel, 1.4, 0.0);
   ASSERT_NE(behind, 0u);
-  const uint64_t slightly_off = add_point(profile.points[profile.points.size() / 3].pixel, 1.1, 0.0);
+  const uint64_t slightly_off =
+      add_point(profile.points[profile.points.size() / 3].pixel, 1.1, 0.0);
   ASSERT_NE(slightly_off, 0u);
 
   const auto ranges = LineRangeConstraints(camera, map, camera_from_world, profile);

@@ -7,6 +7,7 @@
 #include "uwscan/fusion/surface_model.h"
 #include "uwscan/sim/renderer.h"
 #include "uwscan/sim/scenario.h"
+#include "uwscan/sim/testing.h"
 
 namespace uwscan::fusion {
 namespace {
@@ -61,12 +62,7 @@ TEST(SelfReferencedPoseProvider, TheStartConvergesWhileEachChangeShrinks) {
 // check off (cosine 0, the old code) it starts on those planes. With
 // their own profiles the frames start at once.
 TEST(SelfReferencedPoseProvider, AStartOnAPlaneThroughTheCameraIsRefused) {
-  sim::ScenarioOptions scenario_options;
-  scenario_options.width = 320;
-  scenario_options.height = 240;
-  scenario_options.frames = 24;
-  sim::Scenario scenario = sim::MakeScenario("tank-target", scenario_options);
-  scenario.config.scene.Prepare();
+  const sim::Scenario scenario = sim::testing::SmallScenario("tank-target", 24);
   const sim::Renderer renderer(scenario.config);
   const sim::Trajectory trajectory(scenario.motion);
   std::vector<cv::Mat> images;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "uwscan/sim/scenario.h"
+#include "uwscan/sim/testing.h"
 
 namespace uwscan::fusion {
 namespace {
@@ -17,19 +18,10 @@ namespace {
 // frame as their reference view.
 struct SimulatedSweep {
   SimulatedSweep(const std::string& name, int frames)
-      : scenario(Prepared(name, frames)),
+      : scenario(sim::testing::SmallScenario(name, frames)),
         renderer(scenario.config),
         trajectory(scenario.motion),
         world_from_first(trajectory.WorldFromCamera(0.0)) {}
-  static sim::Scenario Prepared(const std::string& name, int frames) {
-    sim::ScenarioOptions options;
-    options.width = 320;
-    options.height = 240;
-    options.frames = frames;
-    sim::Scenario scenario = sim::MakeScenario(name, options);
-    scenario.config.scene.Prepare();
-    return scenario;
-  }
   const Camera& camera() const { return renderer.camera(); }
   // Every `step`th frame's profile.
   SurfaceModel Sweep(const SurfaceModelOptions& options, int step = 1) const {

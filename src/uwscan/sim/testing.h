@@ -63,4 +63,16 @@ inline std::optional<double> TruthAtRow(const std::vector<LaserPoint>& truth, do
   return std::nullopt;
 }
 
+// A scenario at 320x240 (its own motion, rig and scene, `frames` long),
+// its scene prepared for rendering and ray casts.
+inline Scenario SmallScenario(const std::string& name, int frames) {
+  ScenarioOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.frames = frames;
+  Scenario scenario = MakeScenario(name, options);
+  scenario.config.scene.Prepare();
+  return scenario;
+}
+
 }  // namespace uwscan::sim::testing
