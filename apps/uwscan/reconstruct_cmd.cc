@@ -50,6 +50,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto passes = std::make_shared<std::string>("auto");
   auto track_every = std::make_shared<std::string>("auto");
   auto smoothing_half_window = std::make_shared<std::string>("auto");
+  auto max_start_plane_angle = std::make_shared<double>(DefaultMaxStartPlaneAngleDeg());
   auto contrast_scale = std::make_shared<std::string>("auto");
   auto main_camera_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand(
@@ -147,6 +148,11 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--max-init-refinements", job->self_referenced.max_init_refinements,
                   "... and at most, while their poses still move (> 2 mm rms) and converge")
       ->capture_default_str();
+  cmd->add_option("--max-start-plane-angle", *max_start_plane_angle,
+                  "deg: the scan starts only on a plane it sees within this angle of the plane's "
+                  "normal (a start on a plane through the camera, from a slow sweep's profiles "
+                  "placed with too little motion, comes out many times too large); 90 = any")
+      ->capture_default_str();
   cmd->add_flag("--no-difference-image", *no_difference,
                 "interleaved scans: detect the line in the laser-on frame itself, not in its "
                 "difference to the laser-off frame before it");
@@ -209,6 +215,7 @@ void RegisterReconstructCommand(CLI::App& app) {
     }
     job->track_every = ParseTrackEvery(*track_every);
     job->smoothing_half_window = ParseSmoothingHalfWindow(*smoothing_half_window);
+    job->self_referenced.min_start_plane_view_cosine = StartPlaneViewCosine(*max_start_plane_angle);
     job->retry_smaller_tracking = tracking_width->count() == 0;
     job->contrast_scale = ParseContrastScale(*contrast_scale);
     const ReconstructReport r = RunReconstruct(*job);

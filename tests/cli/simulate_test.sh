@@ -297,6 +297,11 @@ expect_status 2 "reconstruct --smoothing-half-window -1" "$uwscan" reconstruct \
   --dataset "$work/pods" --out "$work/pods.smooth" --smoothing-half-window -1 --quiet
 grep -q "smoothing-half-window must be >= 0" "$work/err" || fail "--smoothing-half-window -1: unclear error"
 [ ! -e "$work/pods.smooth" ] || fail "--smoothing-half-window -1 created its output folder"
+expect_status 2 "reconstruct --max-start-plane-angle 0" "$uwscan" reconstruct \
+  --dataset "$work/pods" --out "$work/pods.plane" --max-start-plane-angle 0 --quiet
+grep -q "max-start-plane-angle must be in (0, 90\] deg, got 0" "$work/err" ||
+  fail "--max-start-plane-angle 0: unclear error"
+[ ! -e "$work/pods.plane" ] || fail "--max-start-plane-angle 0 created its output folder"
 expect_status 2 "reconstruct --ba-history -1" "$uwscan" reconstruct \
   --dataset "$work/pods" --out "$work/pods.history" --ba-history -1 --quiet
 grep -q "ba-history must be >= 0" "$work/err" || fail "--ba-history -1: unclear error"

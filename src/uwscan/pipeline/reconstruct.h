@@ -303,6 +303,12 @@ int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);
 // --smoothing-half-window's value: "auto" (unset) or a count >= 0; else a
 // UsageError.
 std::optional<int> ParseSmoothingHalfWindow(const std::string& value);
+// --max-start-plane-angle's value (deg, in (0, 90]) as
+// SelfReferencedOptions::min_start_plane_view_cosine (90: any plane, 0);
+// else a UsageError.
+double StartPlaneViewCosine(double max_angle_deg);
+// The angle of SelfReferencedOptions' default, --max-start-plane-angle's.
+double DefaultMaxStartPlaneAngleDeg();
 // ReconstructJob::smoothing_half_window for these frames, auto resolved
 // from their timestamps (without time between them: 10).
 int ResolveSmoothingHalfWindow(std::optional<int> half_window,

@@ -147,6 +147,18 @@ std::optional<int> ParseSmoothingHalfWindow(const std::string& value) {
   return count;
 }
 
+double StartPlaneViewCosine(double max_angle_deg) {
+  if (!(max_angle_deg > 0 && max_angle_deg <= 90)) {
+    throw UsageError(
+        fmt::format("--max-start-plane-angle must be in (0, 90] deg, got {}", max_angle_deg));
+  }
+  return max_angle_deg == 90 ? 0.0 : std::cos(max_angle_deg * M_PI / 180.0);
+}
+
+double DefaultMaxStartPlaneAngleDeg() {
+  return std::acos(fusion::SelfReferencedOptions().min_start_plane_view_cosine) * 180.0 / M_PI;
+}
+
 int ResolveSmoothingHalfWindow(std::optional<int> half_window,
                                const std::vector<FrameRecord>& frames) {
   if (half_window) return *half_window;

@@ -371,5 +371,17 @@ TEST(ReconstructSmoothing, AutoSpansAtMostAFifthOfASecond) {
     EXPECT_THROW(ParseSmoothingHalfWindow(bad), UsageError) << bad;
 }
 
+// --max-start-plane-angle: the view cosine the start's plane must reach
+// (60 deg by default, SelfReferencedOptions' 0.5; 90 = any plane).
+TEST(ReconstructStartPlane, TheLargestAngleIsTheViewCosine) {
+  EXPECT_NEAR(DefaultMaxStartPlaneAngleDeg(), 60.0, 1e-9);
+  EXPECT_NEAR(StartPlaneViewCosine(DefaultMaxStartPlaneAngleDeg()),
+              fusion::SelfReferencedOptions().min_start_plane_view_cosine, 1e-12);
+  EXPECT_NEAR(StartPlaneViewCosine(45.0), std::sqrt(0.5), 1e-12);
+  EXPECT_EQ(StartPlaneViewCosine(90.0), 0.0);
+  for (const double bad : {0.0, -10.0, 90.5, std::nan("")})
+    EXPECT_THROW(StartPlaneViewCosine(bad), UsageError) << bad;
+}
+
 }  // namespace
 }  // namespace uwscan
