@@ -85,10 +85,10 @@ struct SelfReferencedOptions {
   // settles with the motion a tenth of the truth. Tank seed 103 thinned to
   // 14.4 Hz from each of its first ten frames: seven starts settled on
   // such planes (view cosines 0.006-0.24; the floor's 0.97), five of them
-  // came out at 1.9-9.8x; refused below 0.2, two still did (0.235); below
-  // 0.5, none (0.996-1.012). The simulator's hulls and transects, seen face on,
-  // start as before (BENCHMARKS.md, "A start on a plane through the
-  // camera").
+  // came out at 1.9-9.8x; refused below 0.2, two still did (0.235);
+  // below 0.5, none (0.996-1.012). The simulator's hulls and transects,
+  // seen face on, start as before (BENCHMARKS.md, "A start on a plane
+  // through the camera").
   double min_start_plane_view_cosine = 0.5;
   // Frames between initialisation attempts while the hold grows; once it
   // is full (max_init_frames) its size stays, and every frame whose held
@@ -259,6 +259,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // Whether the plane the start settled on faces the first held frame
   // (min_start_plane_view_cosine; any plane without extrapolate_plane).
   bool StartPlaneFacesCamera(const SurfaceModel& surface) const;
+  // A start attempt refused (counted): its odometry and surfaces dropped,
+  // the held frames kept with the poses it tracked, for the next attempt.
+  void RefuseStart();
   // A new odometry on surface_, started at the first held frame; false (and
   // no odometry) if it cannot start there.
   bool StartOdometry(const Rigid3d& origin);

@@ -2,8 +2,7 @@
 // held until the laser's profiles span the scene's plane, the odometry
 // started on their surface, the held frames tracked and placed again until
 // their poses settle, and the start refused where that surface cannot be
-// the scene's.
-// Members of SelfReferencedPoseProvider (self_referenced.h).
+// the scene's. Members of SelfReferencedPoseProvider (self_referenced.h).
 #include <Eigen/Geometry>
 #include <cmath>
 
@@ -17,6 +16,13 @@ bool SelfReferencedPoseProvider::StartPlaneFacesCamera(const SurfaceModel& surfa
   if (!options_.surface.extrapolate_plane) return true;
   const std::optional<double> cosine = surface.DominantPlaneViewCosine();
   return cosine && *cosine >= options_.min_start_plane_view_cosine;
+}
+
+void SelfReferencedPoseProvider::RefuseStart() {
+  ++init_refused_;
+  odometry_.reset();
+  surface_.reset();
+  init_surface_.reset();  // rebuilt from the held frames at the next attempt
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
@@ -104,10 +110,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     for (size_t i = 0; i < held_.size(); ++i)
       refined->AddProfile(PoseGuess(i, origin), held_[i].profile);
     if (options_.surface.extrapolate_plane && !refined->HasDominantPlane()) {
-      ++init_refused_;
-      odometry_.reset();
-      surface_.reset();
-      init_surface_.reset();  // rebuilt from the held frames at the next attempt
+      RefuseStart();
       return {};
     }
     std::vector<std::optional<Rigid3d>> poses;
@@ -138,10 +141,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   // would refuse attempts that the refinements refuse anyway, and change
   // where the tank's 144 Hz starts begin.)
   if (!use_prior && !StartPlaneFacesCamera(*surface_)) {
-    ++init_refused_;
-    odometry_.reset();
-    surface_.reset();
-    init_surface_.reset();
+    RefuseStart();
     return {};
   }
   running_ = true;
