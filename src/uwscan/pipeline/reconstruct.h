@@ -149,13 +149,14 @@ struct ReconstructJob {
   // The poses' smoothing over +-N frames (SelfReferencedOptions::
   // smoothing_half_window, which this sets); unset (auto): that option's
   // 10 frames, but no more than kSmoothingMaxHalfSpanS, from frames.csv's
-  // timestamps. 10 frames span 69 ms at the thesis camera's 144 Hz and
-  // 0.2 s on the 50 Hz hulls, both measured at length; 10 frames of a
-  // 28.8 Hz camera span 0.35 s, over which the quadratic fit bends a
-  // hover's motion (the tank's distance error 0.25-0.53 %, 0.06-0.11 %
-  // with 6 frames; BENCHMARKS.md, "Cameras slower than 144 Hz").
+  // timestamps: 10 at 72 Hz and above (69 ms at the thesis camera's 144 Hz),
+  // 7 at the hulls' 50 Hz, 4 at 28.8 Hz, 2 at 14.4 Hz. Over longer spans the
+  // quadratic fit flattens a hover's turns: over 0.2 s the simulator's true
+  // hover came out 0.3-0.5 % small, and the tank scans at 14.4-48 Hz 0.2-
+  // 0.5 % small, their board's distance error half as large again
+  // (BENCHMARKS.md, "The pose smoothing over 0.14 s").
   std::optional<int> smoothing_half_window;
-  static constexpr double kSmoothingMaxHalfSpanS = 0.2;
+  static constexpr double kSmoothingMaxHalfSpanS = 0.14;
   void Check() const;
 };
 
