@@ -68,7 +68,7 @@ struct SelfReferencedOptions {
   double max_speed_m_s = 20.0;
   // Poses are smoothed over +-N frames (quadratic fit, pose_smoother.h) and
   // come out N frames late; 0 switches smoothing off. `uwscan
-  // reconstruct` keeps it within 0.2 s at slower frame rates
+  // reconstruct` keeps it within 0.14 s at slower frame rates
   // (ReconstructJob::smoothing_half_window).
   int smoothing_half_window = 10;
   // Frames held back while the laser sweeps enough surface for the scene's
