@@ -22,14 +22,11 @@ std::string PassesNote(int passes, bool automatic) {
   return " in " + count + " passes" + (automatic ? " (a surface in front of the main one)" : "");
 }
 
-// ", tracking every 2nd frame" for the summary line; nothing for every frame.
+// ", tracking the mean of every 2 frames" for the summary line
+// (SelfReferencedOptions::average_skipped_frames); nothing for every frame.
 std::string TrackEveryNote(int every) {
   if (every <= 1) return "";
-  return ", tracking every " + std::to_string(every) +
-         (every == 2   ? "nd"
-          : every == 3 ? "rd"
-                       : "th") +
-         " frame";
+  return ", tracking the mean of every " + std::to_string(every) + " frames";
 }
 
 }  // namespace

@@ -24,6 +24,11 @@ struct PreparedFrame {
   cv::Mat mask;           // empty: no line, or not found yet (has_mask false)
   bool has_mask = false;  // the mask was made from the frame's line
   int variant = 0;        // the provider's choice it was made with
+  // The image is the mean of this many frames, from first_averaged to the
+  // frame's own (SelfReferencedOptions::average_skipped_frames); 1: the
+  // frame's alone.
+  int averaged_frames = 1;
+  int first_averaged = -1;
 };
 
 // Everything the pose estimation of one frame may use.
@@ -60,8 +65,8 @@ class PoseProvider {
   virtual std::vector<PoseUpdate> Preliminary() const { return {}; }
   // Whether PrepareAhead does anything. It may then run on another thread,
   // concurrently with Add, for frames not yet added (their detection set
-  // if their line is found already); Add takes its result in
-  // FrameInput::prepared.
+  // if their line is found already), called for the frames in order; Add
+  // takes its result in FrameInput::prepared.
   virtual bool PreparesAhead() const { return false; }
   virtual PreparedFrame PrepareAhead(const FrameInput& /*frame*/) const { return {}; }
 };

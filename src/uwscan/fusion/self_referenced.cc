@@ -1,7 +1,9 @@
 #include "uwscan/fusion/self_referenced.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <opencv2/imgproc.hpp>
 #include <unordered_map>
 
@@ -71,19 +73,35 @@ void SelfReferencedPoseProvider::Emit(const std::optional<PoseUpdate>& raw, doub
   out->insert(out->end(), final_poses.begin(), final_poses.end());
 }
 
-PreparedFrame SelfReferencedPoseProvider::MakePrepared(const cv::Mat& raw, const cv::Mat* line_mask,
-                                                       const std::optional<cv::Point>& bayer_offset,
-                                                       const Camera& tracking) const {
+// The union of line masks (empty ones left out; empty if all are).
+static cv::Mat MaskUnion(const std::vector<const cv::Mat*>& masks) {
+  cv::Mat all;
+  for (const cv::Mat* mask : masks) {
+    if (mask->empty()) continue;
+    if (all.empty()) {
+      all = *mask;
+    } else {
+      UWS_CHECK(mask->size() == all.size(), "line masks of different sizes");
+      all = all | *mask;
+    }
+  }
+  return all;
+}
+
+PreparedFrame SelfReferencedPoseProvider::MakePrepared(
+    const std::vector<cv::Mat>& raws, const std::vector<const cv::Mat*>& line_masks,
+    const std::optional<cv::Point>& bayer_offset, const Camera& tracking) const {
   PreparedFrame prepared;
   prepared.variant = PreparedVariant(bayer_offset);
+  prepared.averaged_frames = static_cast<int>(raws.size());
   const cv::Size tracked(tracking.width, tracking.height);
   prepared.image = NormalizeIllumination(
-      TrackedPassiveImage(raw, camera_.bayer, laser_channel_, bayer_offset, tracked),
+      TrackedPassiveImage(raws, camera_.bayer, laser_channel_, bayer_offset, tracked),
       options_.illumination_sigma_fraction * tracking.width,
       options_.contrast_sigma_fraction * tracking.width);
-  if (line_mask) {
+  if (std::all_of(line_masks.begin(), line_masks.end(), [](const cv::Mat* m) { return m; })) {
     prepared.has_mask = true;
-    prepared.mask = TrackedLineMask(*line_mask, tracked);
+    prepared.mask = TrackedLineMask(MaskUnion(line_masks), tracked);
   }
   return prepared;
 }
@@ -102,9 +120,32 @@ PreparedFrame SelfReferencedPoseProvider::PrepareAhead(const FrameInput& frame) 
   UWS_CHECK(!frame.image.empty(), "frame ", frame.index, ": empty image");
   const int next = next_tracked_index_.load(std::memory_order_relaxed);
   const int every = options_.track_every;
-  if (every > 1 && next >= 0 && ((frame.index - next) % every + every) % every != 0) return {};
-  return MakePrepared(frame.image, frame.detection ? &frame.detection->mask : nullptr,
-                      ChooseBayerOffset(frame.image), TrackedCamera(frame.image));
+  const cv::Mat* line_mask = frame.detection ? &frame.detection->mask : nullptr;
+  // Held frames are tracked one by one; the frames kept for a mean are
+  // those since the last one prepared for tracking.
+  if (!Averaging() || next < 0) ahead_frames_.clear();
+  if (every > 1 && next >= 0 && ((frame.index - next) % every + every) % every != 0) {
+    if (Averaging()) {
+      if (static_cast<int>(ahead_frames_.size()) + 1 >= every)
+        ahead_frames_.erase(ahead_frames_.begin());
+      ahead_frames_.push_back(
+          {frame.index, frame.image, line_mask ? *line_mask : cv::Mat(), line_mask != nullptr});
+    }
+    return {};
+  }
+  std::vector<cv::Mat> raws;
+  std::vector<const cv::Mat*> masks;
+  for (const AheadFrame& a : ahead_frames_) {
+    raws.push_back(a.image);
+    masks.push_back(a.has_mask ? &a.line_mask : nullptr);
+  }
+  raws.push_back(frame.image);
+  masks.push_back(line_mask);
+  PreparedFrame prepared =
+      MakePrepared(raws, masks, ChooseBayerOffset(frame.image), TrackedCamera(frame.image));
+  prepared.first_averaged = ahead_frames_.empty() ? frame.index : ahead_frames_.front().index;
+  ahead_frames_.clear();
+  return prepared;
 }
 
 Camera SelfReferencedPoseProvider::TrackedCamera(const cv::Mat& frame) const {
@@ -119,13 +160,52 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
   held.input.profile = nullptr;
   held.input.prepared = nullptr;
   const PreparedFrame* ahead = frame.prepared;
-  if (ahead && !ahead->image.empty() && ahead->variant == PreparedVariant(bayer_offset_)) {
+  if (ahead && !ahead->image.empty() && ahead->variant == PreparedVariant(bayer_offset_) &&
+      ahead->averaged_frames == 1) {
     held.input.image = ahead->image;
     held.mask = ahead->has_mask
                     ? ahead->mask
                     : TrackedLineMask(line_mask, {tracking_camera_.width, tracking_camera_.height});
   } else {
-    PreparedFrame prepared = MakePrepared(frame.image, &line_mask, bayer_offset_, tracking_camera_);
+    PreparedFrame prepared =
+        MakePrepared({frame.image}, {&line_mask}, bayer_offset_, tracking_camera_);
+    held.input.image = std::move(prepared.image);
+    held.mask = std::move(prepared.mask);
+  }
+  if (frame.profile) held.profile = *frame.profile;
+  return held;
+}
+
+SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::PrepareAveraged(
+    const FrameInput& frame, const cv::Mat& line_mask) const {
+  Held held;
+  held.input = frame;
+  held.input.detection = nullptr;
+  held.input.profile = nullptr;
+  held.input.prepared = nullptr;
+  const int count = static_cast<int>(skipped_.size()) + 1;
+  double time_sum = frame.timestamp_s;
+  for (const Skipped& s : skipped_) time_sum += s.input.timestamp_s;
+  held.averaged_time_s = time_sum / count;
+  std::vector<cv::Mat> raws;
+  std::vector<const cv::Mat*> masks;
+  for (const Skipped& s : skipped_) {
+    raws.push_back(s.input.image);
+    masks.push_back(&s.line_mask);
+  }
+  raws.push_back(frame.image);
+  masks.push_back(&line_mask);
+  const PreparedFrame* ahead = frame.prepared;
+  if (ahead && !ahead->image.empty() && ahead->variant == PreparedVariant(bayer_offset_) &&
+      ahead->averaged_frames == count && ahead->first_averaged == skipped_.front().input.index) {
+    held.input.image = ahead->image;
+    held.mask =
+        ahead->has_mask
+            ? ahead->mask
+            : TrackedLineMask(MaskUnion(masks), {tracking_camera_.width, tracking_camera_.height});
+  } else {
+    // Not made ahead (the reading thread guessed another frame to track).
+    PreparedFrame prepared = MakePrepared(raws, masks, bayer_offset_, tracking_camera_);
     held.input.image = std::move(prepared.image);
     held.mask = std::move(prepared.mask);
   }
@@ -164,7 +244,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::AddFrame(const FrameInput& f
     skipped_.push_back(std::move(skipped));
     return {};
   }
-  Held held = Prepare(frame, line_mask);
+  Held held = running_ && Averaging() && !skipped_.empty() ? PrepareAveraged(frame, line_mask)
+                                                           : Prepare(frame, line_mask);
   if (running_) return TrackAfterSkipped(held);
   // Every track_every-th held frame, as once running (the others take the
   // guess of the frame before, PoseGuess).
@@ -218,6 +299,7 @@ void SelfReferencedPoseProvider::Restart() {
   // Start again from the surface at the next frames, at the last pose.
   ++lost_;
   running_ = false;
+  pending_.clear();
   odometry_.reset();
   surface_.reset();
   init_surface_.reset();
@@ -242,8 +324,9 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
                                   frame.profile, options_.line_ranges);
     };
   }
-  const vo::FrameResult result = odometry_->ProcessFrame(frame.input.image, frame.mask,
-                                                         frame.input.timestamp_s, {}, line_ranges);
+  const double time_s = frame.averaged_time_s.value_or(frame.input.timestamp_s);
+  const vo::FrameResult result =
+      odometry_->ProcessFrame(frame.input.image, frame.mask, time_s, {}, line_ranges);
   if (result.keyframe) ++keyframes_;
   line_ranges_ += result.line_ranges;
   CountBundleAdjustment(result, /*at_start=*/false);
@@ -255,7 +338,7 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
   }
   const Rigid3d pose = *result.world_from_camera;
   if (last_pose_) {
-    const double dt = std::max(frame.input.timestamp_s - last_time_s_, 1e-3);
+    const double dt = std::max(time_s - last_time_s_, 1e-3);
     const double rotation_deg =
         Eigen::AngleAxisd(pose.rotation * last_pose_->rotation.conjugate()).angle() * 180.0 / M_PI;
     const double distance = (pose.translation - last_pose_->translation).norm();
@@ -267,9 +350,11 @@ std::optional<PoseUpdate> SelfReferencedPoseProvider::Track(const Held& frame) {
     }
   }
   ++tracked_;
+  averaged_ += frame.averaged_time_s.has_value();
   last_pose_ = pose;
-  last_time_s_ = frame.input.timestamp_s;
-  surface_->AddProfile(pose, frame.profile);
+  last_time_s_ = time_s;
+  // An averaged image's pose is that of its mean time, not of the frame.
+  if (!frame.averaged_time_s) surface_->AddProfile(pose, frame.profile);
   return PoseUpdate{frame.input.index, pose};
 }
 
@@ -280,6 +365,39 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TrackAfterSkipped(const Held
   skipped.swap(skipped_);
   const std::optional<PoseUpdate> raw = Track(frame);
   std::vector<PoseUpdate> updates;
+  if (frame.averaged_time_s) {
+    // No frame was taken at the tracked time: each is placed between the
+    // two tracked poses around it, those after this one's time later.
+    std::vector<Skipped> frames;
+    frames.swap(pending_);
+    for (Skipped& s : skipped) frames.push_back({s.input, {}, std::move(s.profile)});
+    frames.push_back({frame.input, {}, frame.profile});
+    if (!raw) {
+      Emit(std::nullopt, 0.0, &updates);  // lost: none of them gets a pose
+      return updates;
+    }
+    std::vector<StampedPose> ends;
+    if (before) ends.push_back({before_s, *before});
+    ends.push_back({*frame.averaged_time_s, raw->world_from_camera});
+    for (Skipped& f : frames) {
+      f.input.image = cv::Mat();
+      if (f.input.timestamp_s > *frame.averaged_time_s) {
+        pending_.push_back(std::move(f));
+        continue;
+      }
+      const auto pose = InterpolatePose(ends, f.input.timestamp_s, kMaxPendingS);
+      if (!pose) continue;
+      surface_->AddProfile(*pose, f.profile);
+      ++interpolated_;
+      Emit(PoseUpdate{f.input.index, *pose}, f.input.timestamp_s, &updates);
+    }
+    return updates;
+  }
+  // The frame's own image (the last of a sequence whose frames were
+  // averaged before: what waited for a later pose comes first).
+  skipped.insert(skipped.begin(), std::make_move_iterator(pending_.begin()),
+                 std::make_move_iterator(pending_.end()));
+  pending_.clear();
   if (raw && before) {
     const std::vector<StampedPose> ends = {{before_s, *before},
                                            {frame.input.timestamp_s, raw->world_from_camera}};
@@ -295,16 +413,38 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TrackAfterSkipped(const Held
   return updates;
 }
 
+std::vector<PoseUpdate> SelfReferencedPoseProvider::PlacePending() {
+  // After the last tracked time: at the last pose (at most half the
+  // frames of a mean later than it).
+  std::vector<PoseUpdate> updates;
+  for (const Skipped& f : pending_) {
+    if (!last_pose_ || f.input.timestamp_s - last_time_s_ > kMaxPendingS) continue;
+    surface_->AddProfile(*last_pose_, f.profile);
+    ++interpolated_;
+    Emit(PoseUpdate{f.input.index, *last_pose_}, f.input.timestamp_s, &updates);
+  }
+  pending_.clear();
+  return updates;
+}
+
 std::vector<PoseUpdate> SelfReferencedPoseProvider::Finish() {
   std::vector<PoseUpdate> updates;
   if (running_ && !skipped_.empty()) {
-    // The last frames were not tracked: track the last of them.
+    // The last frames were not tracked: track the last of them (the mean
+    // of them all when averaging).
     Skipped last = std::move(skipped_.back());
     skipped_.pop_back();
     last.input.profile = &last.profile;
-    updates = TrackAfterSkipped(Prepare(last.input, last.line_mask));
+    updates = TrackAfterSkipped(Averaging() && !skipped_.empty()
+                                    ? PrepareAveraged(last.input, last.line_mask)
+                                    : Prepare(last.input, last.line_mask));
   }
   skipped_.clear();
+  if (running_ && !pending_.empty()) {
+    const auto placed = PlacePending();
+    updates.insert(updates.end(), placed.begin(), placed.end());
+  }
+  pending_.clear();
   if (!running_ && !held_.empty()) {
     const auto initialised = TryInitialize();
     updates.insert(updates.end(), initialised.begin(), initialised.end());
@@ -320,6 +460,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"tracked_image_width", tracking_camera_.width},
           {"tracked", tracked_},
           {"interpolated_between_tracked", interpolated_},
+          {"tracked_images_averaged", averaged_},
           {"lost", lost_},
           {"reinitialisations", reinitialisations_},
           {"frames_without_pose_at_start", dropped_},

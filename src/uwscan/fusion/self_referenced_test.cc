@@ -10,6 +10,7 @@
 #include <iterator>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "uwscan/eval/trajectory_metrics.h"
 #include "uwscan/io/rig_yaml.h"
@@ -31,7 +32,9 @@ std::string ReadFileBytes(const fs::path& path) {
 // A 480x360 tank-target hover simulated into a fresh temporary folder
 // (ROOT/data), and a quiet job on it writing to ROOT/out; ROOT is
 // job.dataset.parent_path().
-ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed) {
+// `exposure_ms`: the shutter time (none: the scenario's 6.94 ms).
+ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed,
+                              std::optional<double> exposure_ms = std::nullopt) {
   const fs::path root =
       fs::temp_directory_path() / ("uwscan_fusion_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(root);
@@ -40,6 +43,7 @@ ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed
   options.height = 360;
   options.frames = frames;
   options.seed = seed;
+  options.exposure_ms = exposure_ms;
   sim::SimulateScenario("tank-target", options, root / "data");
   ReconstructJob job;
   job.dataset = root / "data";
@@ -265,6 +269,51 @@ TEST(SelfReferencedPoseProvider, FramesBetweenTrackedOnesGetInterpolatedPoses) {
   fs::remove_all(root);
 }
 
+// Tracking every second frame, the odometry tracks the mean of the two
+// frames at their mean time (average_skipped_frames): the image noise the
+// tracks follow falls by sqrt(2), as with twice the exposure. The poses'
+// error from frame to frame must fall clearly against the truth, and each
+// frame, placed between the tracked times around it, must land its profile
+// no worse (a pose half a frame late would spread the board).
+TEST(SelfReferencedPoseProvider, SkippedFramesAveragedLowerThePoseNoise) {
+  // Each pixel 7.1 times the area of the thesis camera's (1280/480 squared):
+  // exposed 7.1 times shorter, it gathers the light of that camera's pixels
+  // and so has their noise, which the full-size scans' tracks follow.
+  const double exposure_ms = 6.944 * std::pow(480.0 / 1280.0, 2);
+  ReconstructJob job = SimulatedHover("average", 160, 11, exposure_ms);
+  const fs::path root = job.dataset.parent_path();
+  const auto truth = ReadTum(job.dataset / "groundtruth.tum");
+  job.track_every = 2;
+  std::map<bool, TrajectoryMetrics> metrics;
+  std::map<bool, double> point_error_mm;
+  std::map<bool, int> averaged, without_pose;
+  for (const bool average : {false, true}) {
+    job.out = root / (average ? "averaged" : "single");
+    job.self_referenced.average_skipped_frames = average;
+    const ReconstructReport report = RunReconstruct(job);
+    averaged[average] = report.pose_details["tracked_images_averaged"].get<int>();
+    without_pose[average] = report.frames_without_pose;
+    metrics[average] = ComputeTrajectoryMetrics(ReadTum(job.out / "trajectory.tum"), truth);
+    const auto board =
+        *EvaluateReconstruction(job.dataset, job.out).compensated.Surface("checkerboard");
+    point_error_mm[average] = 1e3 * board.point_error_rms_m;
+  }
+  std::printf(
+      "RPE per frame %.3f mm %.2f mdeg, ATE %.2f mm, board point error %.3f mm each frame "
+      "alone; %.3f mm %.2f mdeg, %.2f mm, %.3f mm two averaged (%d images)\n",
+      1e3 * metrics[false].rpe_trans_rmse_m, 1e3 * metrics[false].rpe_rot_rmse_deg,
+      1e3 * metrics[false].ate_rmse_m, point_error_mm[false], 1e3 * metrics[true].rpe_trans_rmse_m,
+      1e3 * metrics[true].rpe_rot_rmse_deg, 1e3 * metrics[true].ate_rmse_m, point_error_mm[true],
+      averaged[true]);
+  EXPECT_EQ(averaged[false], 0);
+  EXPECT_GT(averaged[true], 40);
+  EXPECT_EQ(without_pose[true], without_pose[false]);  // the last frame too
+  EXPECT_LT(metrics[true].rpe_trans_rmse_m, 0.85 * metrics[false].rpe_trans_rmse_m);
+  EXPECT_LT(metrics[true].rpe_rot_rmse_deg, 0.85 * metrics[false].rpe_rot_rmse_deg);
+  EXPECT_LT(point_error_mm[true], 1.02 * point_error_mm[false]);
+  fs::remove_all(root);
+}
+
 // --oracle-depths (diagnostics): the features take their depth from the
 // simulator's truth. The odometry then tracks with a perfect depth model;
 // the cloud must be at least about as good as with the laser surface, and
@@ -467,6 +516,21 @@ TEST(SelfReferenced, BayerSamplesOfTheLedColour) {
   const cv::Mat red = P::BayerChannel(mosaic, cv::Point(1, 0));  // grbg
   ASSERT_EQ(red.size(), cv::Size(3, 2));
   EXPECT_EQ(red.at<uint16_t>(1, 2), 100 * 2 + 5);
+  // The mean of two mosaics' samples, unrounded, in 8-bit grey levels.
+  const cv::Mat brighter = mosaic + cv::Scalar(7);
+  const cv::Mat mean = P::BayerChannelMean({mosaic, brighter}, cv::Point(1, 0));
+  ASSERT_EQ(mean.size(), cv::Size(3, 2));
+  ASSERT_EQ(mean.type(), CV_32F);
+  EXPECT_FLOAT_EQ(mean.at<float>(1, 2), (100 * 2 + 5 + 3.5f) / 256.0f);
+  EXPECT_FLOAT_EQ(mean.at<float>(0, 0), (1 + 3.5f) / 256.0f);
+  // Colour frames: the passive colour's mean.
+  cv::Mat a(2, 2, CV_8UC3, cv::Scalar(0, 50, 100)), b(2, 2, CV_8UC3, cv::Scalar(0, 90, 103));
+  const cv::Mat colour_mean = P::TrackedPassiveImage(std::vector<cv::Mat>{a, b}, "none",
+                                                     laser::kGreen, std::nullopt, cv::Size(2, 2));
+  ASSERT_EQ(colour_mean.type(), CV_32F);
+  EXPECT_FLOAT_EQ(colour_mean.at<float>(1, 1), 101.5f);  // red, not the laser's green
+  EXPECT_THROW(P::BayerChannelMean({mosaic, cv::Mat(4, 6, CV_8U, cv::Scalar(0))}, cv::Point(0, 0)),
+               Error);
 }
 
 TEST(SelfReferenced, PassiveImageAvoidsTheLaserColour) {

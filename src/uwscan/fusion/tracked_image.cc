@@ -2,8 +2,11 @@
 // colour of a raw or colour frame, halved to the tracking width, its line
 // mask at that size, and the illumination normalisation. Static members of
 // SelfReferencedPoseProvider (self_referenced.h).
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/image.h"
@@ -60,6 +63,32 @@ cv::Mat SelfReferencedPoseProvider::TrackedPassiveImage(
   return passive;
 }
 
+cv::Mat SelfReferencedPoseProvider::TrackedPassiveImage(
+    const std::vector<cv::Mat>& raws, const std::string& bayer, int laser_channel,
+    const std::optional<cv::Point>& bayer_offset, const cv::Size& tracked) {
+  UWS_CHECK(!raws.empty(), "self-referenced odometry: no frame to track");
+  if (raws.size() == 1)
+    return TrackedPassiveImage(raws.front(), bayer, laser_channel, bayer_offset, tracked);
+  cv::Mat passive;
+  if (bayer_offset) {
+    passive = BayerChannelMean(raws, *bayer_offset);
+  } else {
+    const cv::Mat first = PassiveImage(raws.front(), bayer, laser_channel);
+    cv::Mat sum(first.size(), CV_MAKETYPE(CV_32F, first.channels()), cv::Scalar::all(0));
+    for (const cv::Mat& raw : raws) {
+      const cv::Mat channel =
+          &raw == &raws.front() ? first : PassiveImage(raw, bayer, laser_channel);
+      UWS_CHECK(channel.size() == first.size() && channel.type() == first.type(),
+                "self-referenced odometry: frames of different sizes or types averaged");
+      cv::accumulate(channel, sum);
+    }
+    const double scale = first.depth() == CV_16U ? 1.0 / 256.0 : 1.0;
+    sum.convertTo(passive, sum.type(), scale / static_cast<double>(raws.size()));
+  }
+  if (passive.size() != tracked) cv::resize(passive, passive, tracked, 0, 0, cv::INTER_AREA);
+  return passive;
+}
+
 cv::Mat SelfReferencedPoseProvider::TrackedMask(const cv::Mat& mask, const cv::Size& tracked) {
   if (mask.empty() || mask.size() == tracked) return mask;
   cv::Mat small;
@@ -82,6 +111,32 @@ cv::Mat SelfReferencedPoseProvider::BayerChannel(const cv::Mat& raw, const cv::P
       uint8_t* out = channel.ptr<uint8_t>(y);
       for (int x = 0; x < channel.cols; ++x) out[x] = in[2 * x];
     }
+  }
+  return channel;
+}
+
+cv::Mat SelfReferencedPoseProvider::BayerChannelMean(const std::vector<cv::Mat>& raws,
+                                                     const cv::Point& offset) {
+  UWS_CHECK(!raws.empty(), "self-referenced odometry: no frame to track");
+  const cv::Mat& first = raws.front();
+  for (const cv::Mat& raw : raws) {
+    UWS_CHECK(raw.channels() == 1 && raw.size() == first.size() && raw.type() == first.type(),
+              "self-referenced odometry: raw frames of different sizes or types averaged");
+  }
+  cv::Mat channel(first.rows / 2, first.cols / 2, CV_32F, cv::Scalar(0));
+  const float scale = (first.depth() == CV_16U ? 1.0f / 256.0f : 1.0f) / raws.size();
+  for (int y = 0; y < channel.rows; ++y) {
+    float* out = channel.ptr<float>(y);
+    for (const cv::Mat& raw : raws) {
+      if (raw.depth() == CV_16U) {
+        const uint16_t* in = raw.ptr<uint16_t>(2 * y + offset.y) + offset.x;
+        for (int x = 0; x < channel.cols; ++x) out[x] += in[2 * x];
+      } else {
+        const uint8_t* in = raw.ptr<uint8_t>(2 * y + offset.y) + offset.x;
+        for (int x = 0; x < channel.cols; ++x) out[x] += in[2 * x];
+      }
+    }
+    for (int x = 0; x < channel.cols; ++x) out[x] *= scale;
   }
   return channel;
 }
@@ -138,8 +193,8 @@ cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, 
   cv::Mat value, result;
   image.convertTo(value, CV_32F, image.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
   const bool big = image.cols >= 64 && image.rows >= 64;
-  cv::Mat texture =
-      value - Upsampled(BlurredSmall(value, sigma_px, sigma_px >= 4.0 && big ? 4 : 1), value.size());
+  cv::Mat texture = value - Upsampled(BlurredSmall(value, sigma_px, sigma_px >= 4.0 && big ? 4 : 1),
+                                      value.size());
   if (contrast_sigma_px > 0) {
     // The light also scales the texture's contrast, and that scale moves
     // across the image with the camera too. On the simulator's transects
