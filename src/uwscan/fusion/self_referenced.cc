@@ -152,52 +152,31 @@ Camera SelfReferencedPoseProvider::TrackedCamera(const cv::Mat& frame) const {
   return TrackingCamera(camera_, tracking_halvings_, ChooseBayerOffset(frame));
 }
 
-SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(
-    const FrameInput& frame, const cv::Mat& line_mask) const {
+SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(const FrameInput& frame,
+                                                                     const cv::Mat& line_mask,
+                                                                     bool with_skipped) const {
   Held held;
   held.input = frame;
   held.input.detection = nullptr;
   held.input.profile = nullptr;
   held.input.prepared = nullptr;
-  const PreparedFrame* ahead = frame.prepared;
-  if (ahead && !ahead->image.empty() && ahead->variant == PreparedVariant(bayer_offset_) &&
-      ahead->averaged_frames == 1) {
-    held.input.image = ahead->image;
-    held.mask = ahead->has_mask
-                    ? ahead->mask
-                    : TrackedLineMask(line_mask, {tracking_camera_.width, tracking_camera_.height});
-  } else {
-    PreparedFrame prepared =
-        MakePrepared({frame.image}, {&line_mask}, bayer_offset_, tracking_camera_);
-    held.input.image = std::move(prepared.image);
-    held.mask = std::move(prepared.mask);
-  }
-  if (frame.profile) held.profile = *frame.profile;
-  return held;
-}
-
-SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::PrepareAveraged(
-    const FrameInput& frame, const cv::Mat& line_mask) const {
-  Held held;
-  held.input = frame;
-  held.input.detection = nullptr;
-  held.input.profile = nullptr;
-  held.input.prepared = nullptr;
-  const int count = static_cast<int>(skipped_.size()) + 1;
-  double time_sum = frame.timestamp_s;
-  for (const Skipped& s : skipped_) time_sum += s.input.timestamp_s;
-  held.averaged_time_s = time_sum / count;
   std::vector<cv::Mat> raws;
   std::vector<const cv::Mat*> masks;
-  for (const Skipped& s : skipped_) {
-    raws.push_back(s.input.image);
-    masks.push_back(&s.line_mask);
+  double time_sum = 0.0;
+  if (with_skipped) {
+    for (const Skipped& s : skipped_) {
+      raws.push_back(s.input.image);
+      masks.push_back(&s.line_mask);
+      time_sum += s.input.timestamp_s;
+    }
   }
+  const int first = raws.empty() ? frame.index : skipped_.front().input.index;
   raws.push_back(frame.image);
   masks.push_back(&line_mask);
+  if (raws.size() > 1) held.averaged_time_s = (time_sum + frame.timestamp_s) / raws.size();
   const PreparedFrame* ahead = frame.prepared;
   if (ahead && !ahead->image.empty() && ahead->variant == PreparedVariant(bayer_offset_) &&
-      ahead->averaged_frames == count && ahead->first_averaged == skipped_.front().input.index) {
+      ahead->averaged_frames == static_cast<int>(raws.size()) && ahead->first_averaged == first) {
     held.input.image = ahead->image;
     held.mask =
         ahead->has_mask
@@ -244,8 +223,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::AddFrame(const FrameInput& f
     skipped_.push_back(std::move(skipped));
     return {};
   }
-  Held held = running_ && Averaging() && !skipped_.empty() ? PrepareAveraged(frame, line_mask)
-                                                           : Prepare(frame, line_mask);
+  Held held = Prepare(frame, line_mask, running_ && Averaging());
   if (running_) return TrackAfterSkipped(held);
   // Every track_every-th held frame, as once running (the others take the
   // guess of the frame before, PoseGuess).
@@ -435,9 +413,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Finish() {
     Skipped last = std::move(skipped_.back());
     skipped_.pop_back();
     last.input.profile = &last.profile;
-    updates = TrackAfterSkipped(Averaging() && !skipped_.empty()
-                                    ? PrepareAveraged(last.input, last.line_mask)
-                                    : Prepare(last.input, last.line_mask));
+    updates = TrackAfterSkipped(Prepare(last.input, last.line_mask, Averaging()));
   }
   skipped_.clear();
   if (running_ && !pending_.empty()) {

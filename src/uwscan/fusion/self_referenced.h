@@ -300,11 +300,10 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // Counts the frame's windowed BA, if it ran one (`at_start`: in a start
   // attempt, whose adjustments can move the start and so the trajectory).
   void CountBundleAdjustment(const vo::FrameResult& result, bool at_start);
-  // The tracked image and mask of a frame (the input's image is replaced).
-  Held Prepare(const FrameInput& frame, const cv::Mat& line_mask) const;
-  // The same for the mean of skipped_'s frames and this one, at their mean
-  // time (average_skipped_frames); the mask is the union of their masks.
-  Held PrepareAveraged(const FrameInput& frame, const cv::Mat& line_mask) const;
+  // The tracked image and mask of a frame (the input's image is replaced);
+  // `with_skipped`: of the mean of skipped_'s frames and this one, at their
+  // mean time (average_skipped_frames), the mask the union of theirs.
+  Held Prepare(const FrameInput& frame, const cv::Mat& line_mask, bool with_skipped) const;
   // Whether the frame Add tracks next is the mean of the frames since the
   // last tracked one.
   bool Averaging() const { return options_.average_skipped_frames && options_.track_every > 1; }
