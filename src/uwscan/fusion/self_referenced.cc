@@ -371,8 +371,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TrackAfterSkipped(const Held
     }
     return updates;
   }
-  // The frame's own image (the last of a sequence whose frames were
-  // averaged before: what waited for a later pose comes first).
+  // Tracked alone after averaged images (the last frame of a sequence):
+  // the frames still waiting for a later pose are placed first.
   skipped.insert(skipped.begin(), std::make_move_iterator(pending_.begin()),
                  std::make_move_iterator(pending_.end()));
   pending_.clear();

@@ -135,8 +135,8 @@ struct SelfReferencedOptions {
   // tracked one before (the skipped ones and its own), taken at their mean
   // time; every frame then gets its pose between the two tracked times
   // around it. The image noise the tracks follow falls by sqrt(track_every),
-  // as with a longer exposure: at 144 Hz (2) on the tank scans the pose's
-  // error per frame fell by a quarter (BENCHMARKS.md, "Two frames tracked as
+  // as with a longer exposure: at 144 Hz (2) on nine tank scans the pose's
+  // error per frame fell by 21-41 % (BENCHMARKS.md, "Two frames tracked as
   // one"). The start's held frames are tracked one by one as before.
   bool average_skipped_frames = true;
   // When set, features take their depth from the truth (SimulatorTruth), not

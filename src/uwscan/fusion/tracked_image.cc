@@ -2,7 +2,6 @@
 // colour of a raw or colour frame, halved to the tracking width, its line
 // mask at that size, and the illumination normalisation. Static members of
 // SelfReferencedPoseProvider (self_referenced.h).
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <opencv2/imgproc.hpp>
