@@ -135,7 +135,7 @@ struct SelfReferencedOptions {
   // tracked one before (the skipped ones and its own), taken at their mean
   // time; every frame then gets its pose between the two tracked times
   // around it. The image noise the tracks follow falls by sqrt(track_every),
-  // as with a longer exposure: at 144 Hz (2) on nine tank scans the pose's
+  // as with a longer exposure: at 144 Hz (2) on eleven tank scans the pose's
   // error per frame fell by 21-41 % (BENCHMARKS.md, "Two frames tracked as
   // one"). The start's held frames are tracked one by one as before.
   bool average_skipped_frames = true;
