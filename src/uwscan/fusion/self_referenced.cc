@@ -364,10 +364,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TrackAfterSkipped(const Held
         continue;
       }
       const auto pose = InterpolatePose(ends, f.input.timestamp_s, kMaxPendingS);
-      if (!pose) continue;
-      surface_->AddProfile(*pose, f.profile);
-      ++interpolated_;
-      Emit(PoseUpdate{f.input.index, *pose}, f.input.timestamp_s, &updates);
+      if (pose) PlaceBetween(f, *pose, &updates);
     }
     return updates;
   }
@@ -381,14 +378,18 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TrackAfterSkipped(const Held
                                            {frame.input.timestamp_s, raw->world_from_camera}};
     for (const Skipped& s : skipped) {
       const auto pose = InterpolatePose(ends, s.input.timestamp_s, 0.0);
-      if (!pose) continue;
-      surface_->AddProfile(*pose, s.profile);
-      ++interpolated_;
-      Emit(PoseUpdate{s.input.index, *pose}, s.input.timestamp_s, &updates);
+      if (pose) PlaceBetween(s, *pose, &updates);
     }
   }
   Emit(raw, frame.input.timestamp_s, &updates);
   return updates;
+}
+
+void SelfReferencedPoseProvider::PlaceBetween(const Skipped& frame, const Rigid3d& pose,
+                                              std::vector<PoseUpdate>* updates) {
+  surface_->AddProfile(pose, frame.profile);
+  ++interpolated_;
+  Emit(PoseUpdate{frame.input.index, pose}, frame.input.timestamp_s, updates);
 }
 
 std::vector<PoseUpdate> SelfReferencedPoseProvider::PlacePending() {
@@ -396,10 +397,8 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::PlacePending() {
   // frames of a mean later than it).
   std::vector<PoseUpdate> updates;
   for (const Skipped& f : pending_) {
-    if (!last_pose_ || f.input.timestamp_s - last_time_s_ > kMaxPendingS) continue;
-    surface_->AddProfile(*last_pose_, f.profile);
-    ++interpolated_;
-    Emit(PoseUpdate{f.input.index, *last_pose_}, f.input.timestamp_s, &updates);
+    if (last_pose_ && f.input.timestamp_s - last_time_s_ <= kMaxPendingS)
+      PlaceBetween(f, *last_pose_, &updates);
   }
   pending_.clear();
   return updates;

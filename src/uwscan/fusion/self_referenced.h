@@ -344,6 +344,9 @@ class SelfReferencedPoseProvider : public PoseProvider {
     cv::Mat line_mask;
     laser::Profile profile;
   };
+  // A frame not tracked itself, at `pose`: its profile joins the surface
+  // and the pose goes out (counted in interpolated_).
+  void PlaceBetween(const Skipped& frame, const Rigid3d& pose, std::vector<PoseUpdate>* updates);
   std::vector<Skipped> skipped_;
   // Frames of averaged tracked images later than the image's time (the
   // tracked frame itself, mostly): placed once the next tracked pose is

@@ -62,6 +62,14 @@ cv::Mat SelfReferencedPoseProvider::TrackedPassiveImage(
   return passive;
 }
 
+namespace {
+
+// 8-bit grey levels per sample value: the unit the tracked image's high
+// pass works in (16-bit samples / 256).
+double GreyLevelScale(int depth) { return depth == CV_16U ? 1.0 / 256.0 : 1.0; }
+
+}  // namespace
+
 cv::Mat SelfReferencedPoseProvider::TrackedPassiveImage(
     const std::vector<cv::Mat>& raws, const std::string& bayer, int laser_channel,
     const std::optional<cv::Point>& bayer_offset, const cv::Size& tracked) {
@@ -81,8 +89,8 @@ cv::Mat SelfReferencedPoseProvider::TrackedPassiveImage(
                 "self-referenced odometry: frames of different sizes or types averaged");
       cv::accumulate(channel, sum);
     }
-    const double scale = first.depth() == CV_16U ? 1.0 / 256.0 : 1.0;
-    sum.convertTo(passive, sum.type(), scale / static_cast<double>(raws.size()));
+    sum.convertTo(passive, sum.type(),
+                  GreyLevelScale(first.depth()) / static_cast<double>(raws.size()));
   }
   if (passive.size() != tracked) cv::resize(passive, passive, tracked, 0, 0, cv::INTER_AREA);
   return passive;
@@ -123,7 +131,7 @@ cv::Mat SelfReferencedPoseProvider::BayerChannelMean(const std::vector<cv::Mat>&
               "self-referenced odometry: raw frames of different sizes or types averaged");
   }
   cv::Mat channel(first.rows / 2, first.cols / 2, CV_32F, cv::Scalar(0));
-  const float scale = (first.depth() == CV_16U ? 1.0f / 256.0f : 1.0f) / raws.size();
+  const float scale = static_cast<float>(GreyLevelScale(first.depth()) / raws.size());
   for (int y = 0; y < channel.rows; ++y) {
     float* out = channel.ptr<float>(y);
     for (const cv::Mat& raw : raws) {
@@ -190,7 +198,7 @@ cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, 
   // the image from frame to frame and pulls Lucas-Kanade off the texture.
   // Subtracting the local mean (a high pass) keeps the texture only.
   cv::Mat value, result;
-  image.convertTo(value, CV_32F, image.depth() == CV_16U ? 1.0 / 256.0 : 1.0);
+  image.convertTo(value, CV_32F, GreyLevelScale(image.depth()));
   const bool big = image.cols >= 64 && image.rows >= 64;
   cv::Mat texture = value - Upsampled(BlurredSmall(value, sigma_px, sigma_px >= 4.0 && big ? 4 : 1),
                                       value.size());
