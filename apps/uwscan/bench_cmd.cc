@@ -111,6 +111,9 @@ void RegisterBenchCommands(CLI::App& app) {
   pipeline->add_flag("!--no-preread", pipeline_options->preread,
                      "time the images' reading from wherever they are (disk or page cache) "
                      "instead of reading them once before the timed run");
+  pipeline->add_flag("--live", pipeline_options->live,
+                     "deliver the frames at the camera's pace, as a live camera would, and "
+                     "report how far the cloud falls behind it (live_lag_s); one pass");
   pipeline->callback([pipeline_options, pipeline_dataset, pipeline_track_every] {
     pipeline_options->dataset = *pipeline_dataset;
     pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);

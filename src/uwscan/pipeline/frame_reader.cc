@@ -9,11 +9,13 @@
 namespace uwscan {
 
 FrameReader::FrameReader(const std::vector<FrameRecord>& frames, LineStage* line_stage,
-                         const fusion::PoseProvider* provider)
+                         const fusion::PoseProvider* provider,
+                         std::optional<std::chrono::steady_clock::time_point> live_from)
     : frames_(frames),
       line_stage_(line_stage),
       line_ahead_(!line_stage->NeedsPoses()),
-      provider_(provider && provider->PreparesAhead() ? provider : nullptr) {
+      provider_(provider && provider->PreparesAhead() ? provider : nullptr),
+      live_from_(live_from) {
   if (!frames_.empty()) worker_ = std::thread([this] { Work(); });
 }
 
@@ -48,6 +50,13 @@ void FrameReader::Work() {
     {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait(lock, [this] { return stop_ || ready_.size() < kAhead; });
+      if (live_from_) {
+        const std::chrono::duration<double> offset(frames_[i].timestamp_s -
+                                                   frames_.front().timestamp_s);
+        const auto due =
+            *live_from_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(offset);
+        changed_.wait_until(lock, due, [this] { return stop_; });
+      }
       if (stop_) return;
     }
     Entry entry{i, {}, nullptr};

@@ -2,6 +2,7 @@
 // thread, with their laser lines when they need no poses.
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -45,8 +46,12 @@ class FrameReader {
  public:
   // `provider` may be null (no preparation ahead).
   // The images are read by `line_stage` (LineStage::ReadFrameImage).
+  // With `live_from`, no frame is read before a live camera started then
+  // would have delivered it: the first at once, each later one its
+  // timestamp's offset from the first's later (ReconstructJob::live).
   FrameReader(const std::vector<FrameRecord>& frames, LineStage* line_stage,
-              const fusion::PoseProvider* provider);
+              const fusion::PoseProvider* provider,
+              std::optional<std::chrono::steady_clock::time_point> live_from = std::nullopt);
   ~FrameReader();
   FrameReader(const FrameReader&) = delete;
   FrameReader& operator=(const FrameReader&) = delete;
@@ -68,7 +73,8 @@ class FrameReader {
   LineStage* line_stage_;
   const bool line_ahead_;                 // found on the reading thread
   const fusion::PoseProvider* provider_;  // if it prepares frames ahead
-  double seconds_waiting_ = 0.0;          // caller's thread only
+  const std::optional<std::chrono::steady_clock::time_point> live_from_;
+  double seconds_waiting_ = 0.0;  // caller's thread only
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<Entry> ready_;  // read, not yet taken, in frame order

@@ -42,6 +42,11 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   job.async_bundle_adjustment = options.async_bundle_adjustment;
   job.track_every = options.track_every;
   if (options.line_window_px) job.line_window_px = *options.line_window_px;
+  if (options.live) {
+    job.live = true;
+    job.passes = 1;
+    job.retry_smaller_tracking = false;
+  }
   job.Check();  // before the (long) simulation
   double simulate_seconds = 0.0;
   if (job.dataset.empty()) {
@@ -93,6 +98,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   if (load_before >= 0) json["load_average_before"] = load_before;
   json["images_in_page_cache_before"] = cached_before;
   json["images_read_before_timing"] = options.preread;
+  json["live"] = options.live;
   if (preread) {
     const double mb = preread->bytes / 1e6;
     json["images_mb"] = mb;

@@ -20,6 +20,11 @@ struct PipelineBenchmarkOptions {
   // Read the frame images once before the timed run, so that it times the
   // processing, not the disk (the read is timed apart); false: as they are.
   bool preread = true;
+  // Deliver the frames at the camera's pace, as a live camera would, and
+  // report how far the cloud falls behind it (ReconstructJob::live): the
+  // real-time factor then stays at or below 1 by construction, and the lag
+  // tells whether the processing keeps up. One pass, no retry.
+  bool live = false;
   void Check() const;
 };
 

@@ -308,6 +308,12 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   };
   std::map<int, Pending> pending;
   int frames_placed = 0;
+  // A live run (the first pass only; ReconstructJob::live): frames are
+  // delivered from now on at the camera's pace, and each placed frame's
+  // (delivery time, lag) kept.
+  std::optional<std::chrono::steady_clock::time_point> live_from;
+  if (job.live && pass == 1 && !retried) live_from = std::chrono::steady_clock::now();
+  std::vector<std::pair<double, double>> live_lags;
   // What a later pass starts from. The odometry's own surface when it
   // started from nothing; when it started from a prior, that surface holds
   // the prior's samples too (most of its bounded sample of the scene), so
@@ -327,12 +333,16 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       if (measured) measured->poses[update.frame] = update.world_from_camera;
       line_stage.SetPose(update.frame, update.world_from_camera);
       ++frames_placed;
+      if (live_from) {
+        const double delivered_s = it->second.timestamp_s - frames.front().timestamp_s;
+        live_lags.emplace_back(delivered_s, SecondsSince(*live_from) - delivered_s);
+      }
       add_profile(it->second.profile, update.frame, update.world_from_camera, *first_pose);
       if (placed_surface) placed_surface->AddProfile(update.world_from_camera, it->second.profile);
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
-  FrameReader reader(frames, &line_stage, provider.get());
+  FrameReader reader(frames, &line_stage, provider.get(), live_from);
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     ReadFrame frame = reader.Get(i);
@@ -366,6 +376,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     measured->first_frame = self_referenced->FirstFrameWithPose();
   }
   report.frames_without_pose = report.frames - frames_placed;
+  if (live_from) report.live_lag = SummarizeLiveLag(live_lags, report.sequence_duration_s);
   if (!first_pose) {
     progress.Finish();
     report.pose_details = provider->Details();

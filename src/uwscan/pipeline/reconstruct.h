@@ -157,8 +157,36 @@ struct ReconstructJob {
   // (BENCHMARKS.md, "The pose smoothing over 0.14 s").
   std::optional<int> smoothing_half_window;
   static constexpr double kSmoothingMaxHalfSpanS = 0.14;
+  // The frames replayed as a live camera delivers them (FrameReader's
+  // live_from): frame i is read no sooner than its timestamp's offset from
+  // the first's after the run began, so the processing cannot work ahead
+  // of the camera, and each frame's lag behind it is measured
+  // (ReconstructReport::live_lag; `uwscan bench pipeline --live`). A live
+  // scan is processed once: it needs one pass and no retry on half the
+  // image.
+  bool live = false;
   void Check() const;
 };
+
+// How far a live run's cloud fell behind the camera
+// (ReconstructJob::live): each placed frame's lag is the time from its
+// delivery (its timestamp's offset from the first frame's) to its profile
+// joining the cloud, which includes waiting for the pose smoothing's later
+// frames.
+struct LiveLag {
+  double max_s = 0.0;
+  double max_at_scan_s = 0.0;  // the delivery time (from the first frame) of the frame
+  double median_s = 0.0;
+  double last_s = 0.0;  // of the last frame placed (at the scan's end)
+  // At each whole second of the scan (1 s, 2 s, ...), the lag of the last
+  // frame delivered by then among those placed; null where none was.
+  std::vector<std::optional<double>> at_each_second_s;
+  nlohmann::json ToJson() const;
+};
+// The summary of a live run's lags: (delivery time from the first frame,
+// lag) of each placed frame, in frame order; none if no frame was placed.
+std::optional<LiveLag> SummarizeLiveLag(const std::vector<std::pair<double, double>>& lags,
+                                        double sequence_duration_s);
 
 // A further camera of the rig whose profiles joined the cloud.
 struct CameraReport {
@@ -258,6 +286,7 @@ struct ReconstructReport {
   // Why such a second run failed, whose outputs are then the first's.
   std::string tracking_retry_failed;
   double sequence_duration_s = 0.0;  // from the frame timestamps
+  std::optional<LiveLag> live_lag;   // ReconstructJob::live only
   FrameGaps frame_gaps;              // frames the camera or its recorder dropped (frames.csv)
   std::string pose_source;
   // --poses: the file's poses' median step (s) and how many lie within the

@@ -16,6 +16,7 @@
 #include "uwscan/pipeline/vo_run.h"
 #include "uwscan/util/error.h"
 #include "uwscan/util/json.h"
+#include "uwscan/util/statistics.h"
 
 namespace uwscan {
 
@@ -55,6 +56,10 @@ void ReconstructJob::Check() const {
   }
   if (passes < 0 || passes > kMaxPasses) {
     throw UsageError(fmt::format("--passes must be auto or 1 to {}, got {}", kMaxPasses, passes));
+  }
+  if (live && (passes != 1 || retry_smaller_tracking)) {
+    throw UsageError(
+        "a live run is processed once: it needs --passes 1 and no retry on half the image");
   }
   if (!(passes_settled_m > 0.0) || !(passes_settled_deg > 0.0) ||
       !(passes_converging_ratio > 0.0 && passes_converging_ratio <= 1.0)) {
@@ -457,6 +462,39 @@ nlohmann::json CameraReport::ToJson() const {
           {"points", points}};
 }
 
+std::optional<LiveLag> SummarizeLiveLag(const std::vector<std::pair<double, double>>& lags,
+                                        double sequence_duration_s) {
+  if (lags.empty()) return std::nullopt;
+  LiveLag live;
+  std::vector<double> values;
+  for (const auto& [delivered_s, lag_s] : lags) {
+    values.push_back(lag_s);
+    if (values.size() == 1 || lag_s > live.max_s) {
+      live.max_s = lag_s;
+      live.max_at_scan_s = delivered_s;
+    }
+  }
+  live.last_s = lags.back().second;
+  live.median_s = Median(std::move(values));
+  size_t next = 0;  // the first frame delivered after the second before
+  std::optional<double> latest;
+  for (int second = 1; second <= static_cast<int>(sequence_duration_s); ++second) {
+    while (next < lags.size() && lags[next].first <= second) latest = lags[next++].second;
+    live.at_each_second_s.push_back(latest);
+  }
+  return live;
+}
+
+nlohmann::json LiveLag::ToJson() const {
+  nlohmann::json seconds = nlohmann::json::array();
+  for (const auto& lag : at_each_second_s) seconds.push_back(lag ? nlohmann::json(*lag) : nullptr);
+  return {{"max", max_s},
+          {"max_at_scan_s", max_at_scan_s},
+          {"median", median_s},
+          {"last", last_s},
+          {"at_each_second", seconds}};
+}
+
 nlohmann::json ReconstructReport::ToJson() const {
   nlohmann::json cameras = nlohmann::json::array();
   for (const auto& camera : other_cameras) cameras.push_back(camera.ToJson());
@@ -528,6 +566,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"line_window_px", line_window_px},
       {"frames_line_window_redone", frames_line_window_redone},
       {"async_bundle_adjustment", async_bundle_adjustment},
+      {"live_lag_s", live_lag ? live_lag->ToJson() : nlohmann::json()},
       {"sequence_duration_s", sequence_duration_s},
       {"frames_missing", frame_gaps.missing},
       {"frame_gaps", frame_gaps.gaps},

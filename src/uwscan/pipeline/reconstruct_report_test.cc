@@ -437,5 +437,44 @@ TEST(ReconstructStartPlane, TheLargestAngleIsTheViewCosine) {
     EXPECT_THROW(StartPlaneViewCosine(bad), UsageError) << bad;
 }
 
+// A live run's lags: the largest and when its frame came, the median, the
+// last, and at each whole second the lag of the last frame delivered by
+// then (none before the first placed frame, the one before if none came
+// since).
+TEST(ReconstructLive, LagsSummarisedOverTheScan) {
+  EXPECT_FALSE(SummarizeLiveLag({}, 5.0).has_value());
+  const std::vector<std::pair<double, double>> lags = {
+      {1.5, 3.0}, {1.6, 2.9}, {2.2, 2.5}, {4.1, 0.4}, {4.5, 0.3}};
+  const auto live = SummarizeLiveLag(lags, 5.2);
+  ASSERT_TRUE(live.has_value());
+  EXPECT_EQ(live->max_s, 3.0);
+  EXPECT_EQ(live->max_at_scan_s, 1.5);
+  EXPECT_EQ(live->median_s, 2.5);
+  EXPECT_EQ(live->last_s, 0.3);
+  ASSERT_EQ(live->at_each_second_s.size(), 5u);
+  EXPECT_FALSE(live->at_each_second_s[0].has_value());
+  EXPECT_EQ(live->at_each_second_s[1], 2.9);
+  EXPECT_EQ(live->at_each_second_s[2], 2.5);
+  EXPECT_EQ(live->at_each_second_s[3], 2.5);
+  EXPECT_EQ(live->at_each_second_s[4], 0.3);
+  const nlohmann::json json = live->ToJson();
+  EXPECT_TRUE(json["at_each_second"][0].is_null());
+  EXPECT_EQ(json["at_each_second"][4].get<double>(), 0.3);
+}
+
+// A live run is processed once, as the camera delivers it: more passes or
+// a retry on half the image would read the frames again.
+TEST(ReconstructLive, NeedsOnePassAndNoRetry) {
+  ReconstructJob job;
+  job.dataset = "data";
+  job.out = "out";
+  job.live = true;
+  EXPECT_THROW(job.Check(), UsageError);  // passes auto
+  job.passes = 1;
+  EXPECT_THROW(job.Check(), UsageError);  // retry on half the image
+  job.retry_smaller_tracking = false;
+  EXPECT_NO_THROW(job.Check());
+}
+
 }  // namespace
 }  // namespace uwscan

@@ -323,6 +323,23 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   ASSERT_GT(std::count(trajectories[0].begin(), trajectories[0].end(), '\n'), 20);
   EXPECT_EQ(trajectories[1], trajectories[0]);
   EXPECT_EQ(trajectories[2], trajectories[0]);
+  // Replayed at the camera's pace (`bench pipeline --live`): the reading
+  // thread now waits for each frame's time, the same trajectory all the
+  // same; the run cannot end before the camera's last frame, and every
+  // placed frame's lag behind the camera is measured.
+  job.out = root / "live";
+  job.live = true;
+  job.passes = 1;
+  job.retry_smaller_tracking = false;
+  const ReconstructReport live = RunReconstruct(job);
+  EXPECT_EQ(FileBytes(job.out / "trajectory.tum"), trajectories[0]);
+  const double last_frame_s = live.sequence_duration_s * 39.0 / 40.0;
+  EXPECT_GE(live.seconds, last_frame_s);
+  ASSERT_TRUE(live.live_lag.has_value());
+  EXPECT_GT(live.live_lag->last_s, 0.0);
+  EXPECT_GE(live.live_lag->max_s, live.live_lag->median_s);
+  EXPECT_GE(live.live_lag->median_s, 0.0);
+  EXPECT_LE(live.live_lag->max_at_scan_s, last_frame_s);
   fs::remove_all(root);
 }
 
