@@ -5,7 +5,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -13,7 +12,6 @@
 #include <map>
 #include <memory>
 #include <random>
-#include <thread>
 
 #include "uwscan/eval/trajectory_metrics.h"
 #include "uwscan/io/dataset.h"
@@ -449,162 +447,6 @@ TEST_F(ReconstructTest, CtrlCLeavesNothingBehind) {
     EXPECT_EQ(e.signal(), SIGINT);
   }
   EXPECT_FALSE(fs::exists(root_ / "interrupted"));
-}
-
-// In turbid water (c_p 0.8 /m) the red LED's texture is a little above
-// the sensor's noise: tracked at 640 px the held frames' poses do not
-// settle (tens of millimetres) and the trajectory's scale comes out far
-// off; the run goes again on half the image, whose KLT windows average
-// more of the noise (BENCHMARKS.md, "Turbid water, measured again"; this
-// dataset: Sim(3) scale 0.77 at 640 px, 1.04 at 320).
-TEST(ReconstructTurbid, AStartThatDoesNotSettleRunsAgainOnHalfTheImage) {
-  const fs::path root = TempFolder("turbid");
-  sim::ScenarioOptions options = ScanOptions(640, 480, 100, 5);
-  options.turbidity = "0.8";
-  ReconstructJob job = SimulatedJob(root, "tank-target", options);
-  const auto ground_truth = ReadTum(job.dataset / "groundtruth.tum");
-  const auto run = [&](const std::string& name, bool retry) {
-    job.out = root / name;
-    job.retry_smaller_tracking = retry;
-    const ReconstructReport report = RunReconstruct(job);
-    const TrajectoryMetrics metrics =
-        ComputeTrajectoryMetrics(ReadTum(job.out / "trajectory.tum"), ground_truth);
-    return std::make_pair(report, metrics.alignment.scale);
-  };
-  const auto [once, once_scale] = run("once", false);
-  const auto [again, again_scale] = run("again", true);
-  std::printf("turbid hover: Sim(3) scale %.3f tracked at %d px, %.3f at %d px\n", once_scale,
-              once.pose_details.value("tracked_image_width", 0), again_scale,
-              again.pose_details.value("tracked_image_width", 0));
-  // Without the second run: the start far from settled, and the warning
-  // suggests the smaller image.
-  EXPECT_EQ(once.tracking_retried_from_width, 0);
-  EXPECT_EQ(once.SmallerTrackingWidth(), 320);
-  const auto once_warnings = once.Warnings();
-  EXPECT_TRUE(std::any_of(once_warnings.begin(), once_warnings.end(), [](const std::string& w) {
-    return w.find("the whole trajectory rests on that start") != std::string::npos &&
-           w.find("try --max-tracking-width 320") != std::string::npos;
-  }));
-  // With it: half the image, said in the report, and a scale nearer the truth.
-  EXPECT_EQ(again.tracking_retried_from_width, 640);
-  EXPECT_EQ(again.pose_details.value("tracked_image_width", 0), 320);
-  EXPECT_GT(again.retried_start_change_mm, 20.0);
-  EXPECT_GT(again.seconds_earlier_passes, 0.0);
-  EXPECT_FALSE(again.SmallerTrackingWidth().has_value());
-  const auto warnings = again.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("the odometry ran again at 320 px") != std::string::npos;
-  }));
-  const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
-  EXPECT_EQ(json["tracking_retried_from_width"], 640);
-  EXPECT_LT(std::abs(again_scale - 1.0), 0.5 * std::abs(once_scale - 1.0));
-  EXPECT_LT(std::abs(again_scale - 1.0), 0.25);
-
-  // If the second run fails outright (here its last frame is damaged once
-  // the first run has committed its outputs), the first run's outputs
-  // stand and the report says why.
-  job.out = root / "failed";
-  job.retry_smaller_tracking = true;
-  const fs::path last_frame = job.dataset / "frames" / "000099.png";
-  std::atomic<bool> done = false, damaged = false;
-  std::thread damage([&] {
-    while (!done && !fs::exists(job.out / "report.json"))
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    if (done) return;
-    fs::resize_file(last_frame, fs::file_size(last_frame) / 2);
-    damaged = true;
-  });
-  ReconstructReport failed;
-  try {
-    failed = RunReconstruct(job);
-  } catch (...) {
-    done = true;
-    damage.join();
-    throw;
-  }
-  done = true;
-  damage.join();
-  ASSERT_TRUE(damaged);
-  EXPECT_NE(failed.tracking_retry_failed.find("000099.png"), std::string::npos)
-      << failed.tracking_retry_failed;
-  EXPECT_EQ(failed.tracking_retried_from_width, 0);
-  EXPECT_EQ(failed.pose_details.value("tracked_image_width", 0), 640);
-  EXPECT_EQ(FileBytes(job.out / "trajectory.tum"), FileBytes(root / "once" / "trajectory.tum"));
-  const nlohmann::json failed_json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
-  EXPECT_EQ(failed_json["tracking_retry_failed"], failed.tracking_retry_failed);
-  const auto failed_warnings = failed.Warnings();
-  EXPECT_TRUE(std::any_of(failed_warnings.begin(), failed_warnings.end(), [](const std::string& w) {
-    return w.find("these outputs are the first run's") != std::string::npos;
-  }));
-  for (const auto& entry : fs::directory_iterator(job.out))
-    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
-  fs::remove_all(root);
-}
-
-// A mono camera at the colour camera's exposure and gain gathers the light
-// of all three colours: the floor's bright patches and the target's white
-// squares clip, the line cannot stand out on them, and the report says so.
-TEST(ReconstructClipping, AMonoCameraAtAColourCamerasExposureSaysTheSceneClips) {
-  const fs::path root = TempFolder("reconstruct_clipping");
-  sim::ScenarioOptions options = ScanOptions(320, 240, 12, 23);
-  options.output = sim::OutputFormat::kMono;
-  ReconstructJob job = SimulatedJobOnTruePoses(root, "tank-target", options);
-  job.out = root / "out";
-  const ReconstructReport report = RunReconstruct(job);
-  EXPECT_EQ(report.frames_clipping_examined, 12);
-  EXPECT_GE(report.frames_with_clipped_scene, 6);
-  // A mono camera's features are in the laser's colour: measured once, above.
-  EXPECT_EQ(report.frames_features_clipping_examined, 0);
-  EXPECT_EQ(report.features_colour, "");
-  EXPECT_GT(report.clipped_samples, report.clipping_samples_examined / 100);
-  const std::vector<std::string> warnings = report.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("at full scale in the laser's colour") != std::string::npos &&
-           w.find("lower the camera's exposure or gain") != std::string::npos;
-  }));
-  const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
-  EXPECT_EQ(json["frames_with_clipped_scene"], report.frames_with_clipped_scene);
-  EXPECT_GT(json["clipped_scene_share"].get<double>(), 0.01);
-  fs::remove_all(root);
-}
-
-// The simulator's pixels grow with a smaller image on the same sensor, so
-// at a quarter of the thesis camera's width and its gain each pixel gathers
-// 16 times the light: the red LED's colour, which the odometry tracks,
-// clips on much of the image and the report says so. At a quarter of the
-// gain it does not.
-TEST(ReconstructClipping, AnExposureThatClipsTheFeaturesColourIsReported) {
-  const fs::path root = TempFolder("reconstruct_clipped_features");
-  const auto run = [&](double gain) {
-    sim::ScenarioOptions options = ScanOptions(320, 240, 12, 23);
-    options.gain = gain;
-    ReconstructJob job =
-        SimulatedJobOnTruePoses(root / std::to_string(int(gain)), "tank-target", options);
-    job.out = root / ("out" + std::to_string(int(gain)));
-    return RunReconstruct(job);
-  };
-  const ReconstructReport bright = run(4.0);
-  EXPECT_EQ(bright.features_colour, "red");
-  EXPECT_EQ(bright.frames_features_clipping_examined, 12);
-  EXPECT_EQ(bright.frames_with_clipped_features, 12);
-  EXPECT_GT(bright.ClippedFeaturesShare(), 0.2);
-  const std::vector<std::string> warnings = bright.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("the features' colour (red, lit by the floods) is at full scale") !=
-               std::string::npos &&
-           w.find("lower the camera's exposure or gain") != std::string::npos;
-  }));
-  const nlohmann::json json = nlohmann::json::parse(std::ifstream(root / "out4" / "report.json"));
-  EXPECT_EQ(json["frames_with_clipped_features"], 12);
-  EXPECT_EQ(json["features_colour"], "red");
-
-  const ReconstructReport dim = run(1.0);
-  EXPECT_EQ(dim.frames_features_clipping_examined, 12);
-  EXPECT_EQ(dim.frames_with_clipped_features, 0);
-  EXPECT_LT(dim.ClippedFeaturesShare(), 0.05);
-  for (const std::string& w : dim.Warnings())
-    EXPECT_EQ(w.find("features' colour"), std::string::npos) << w;
-  fs::remove_all(root);
 }
 
 }  // namespace
