@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 #include "uwscan/util/stopwatch.h"
 
 namespace uwscan {
@@ -31,7 +32,12 @@ FrameReader::~FrameReader() {
 ReadFrame FrameReader::Get(size_t i) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_lock<std::mutex> lock(mutex_);
-  changed_.wait(lock, [this] { return !ready_.empty(); });
+  // A live replay may wait long for a frame (a gap in the recording):
+  // Ctrl-C is heard meanwhile.
+  while (
+      !changed_.wait_for(lock, std::chrono::milliseconds(50), [this] { return !ready_.empty(); })) {
+    ThrowIfInterrupted();
+  }
   seconds_waiting_ += SecondsSince(start);
   Entry entry = std::move(ready_.front());
   ready_.pop_front();
