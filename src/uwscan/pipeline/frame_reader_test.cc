@@ -5,6 +5,9 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -19,6 +22,28 @@ namespace uwscan {
 namespace {
 namespace fs = std::filesystem;
 using namespace pipeline_testing;
+
+// A small simulated scan whose frames' timestamps `retime` sets, and the
+// line stage a reader reads them with.
+struct RetimedScan {
+  RetimedScan(const std::string& name, int frame_count,
+              const std::function<void(std::vector<FrameRecord>*)>& retime)
+      : root(TempFolder(name)),
+        job(SimulatedJob(root, "tank-target", ScanOptions(160, 120, frame_count, 3))),
+        frames(ReadFramesCsv(job.dataset / "frames.csv")),
+        rig(ReadRigYaml(job.dataset / "rig.yaml")) {
+    retime(&frames);
+    stage = std::make_unique<LineStage>(job, job.dataset, rig.cameras.front(), rig.lasers.front(),
+                                        rig.CameraFromLaser(0, 0), frames, &report);
+  }
+  ~RetimedScan() { fs::remove_all(root); }
+  fs::path root;
+  ReconstructJob job;
+  std::vector<FrameRecord> frames;
+  Rig rig;
+  ReconstructReport report;
+  std::unique_ptr<LineStage> stage;
+};
 
 // When each frame of `frames` came out of a reader (seconds from `from`).
 std::vector<double> DeliveryTimes(const std::vector<FrameRecord>& frames, LineStage* stage,
@@ -39,46 +64,35 @@ std::vector<double> DeliveryTimes(const std::vector<FrameRecord>& frames, LineSt
 // than the camera delivered it, its timestamp's offset from the first
 // frame's after the start; without it the reader works ahead at once.
 TEST(FrameReader, ALiveReplayDeliversEachFrameAtItsTime) {
-  const fs::path root = TempFolder("frame_reader");
-  ReconstructJob job = SimulatedJob(root, "tank-target", ScanOptions(160, 120, 6, 3));
-  std::vector<FrameRecord> frames = ReadFramesCsv(job.dataset / "frames.csv");
-  ASSERT_EQ(frames.size(), 6u);
   const double step_s = 0.2;  // slower than reading such small frames, even on a busy machine
-  for (size_t i = 0; i < frames.size(); ++i) frames[i].timestamp_s = 100.0 + step_s * i;
-  const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
-  ReconstructReport report;
-  LineStage stage(job, job.dataset, rig.cameras.front(), rig.lasers.front(),
-                  rig.CameraFromLaser(0, 0), frames, &report);
-
+  RetimedScan scan("frame_reader", 6, [&](std::vector<FrameRecord>* frames) {
+    for (size_t i = 0; i < frames->size(); ++i) (*frames)[i].timestamp_s = 100.0 + step_s * i;
+  });
+  const std::vector<FrameRecord>& frames = scan.frames;
+  ASSERT_EQ(frames.size(), 6u);
   const std::vector<double> live =
-      DeliveryTimes(frames, &stage, std::chrono::steady_clock::now(), true);
+      DeliveryTimes(frames, scan.stage.get(), std::chrono::steady_clock::now(), true);
   for (size_t i = 0; i < frames.size(); ++i) {
     EXPECT_GE(live[i], step_s * i) << "frame " << i;
     EXPECT_LT(live[i], step_s * (i + 1)) << "frame " << i;  // not a frame late
   }
   const std::vector<double> ahead =
-      DeliveryTimes(frames, &stage, std::chrono::steady_clock::now(), false);
+      DeliveryTimes(frames, scan.stage.get(), std::chrono::steady_clock::now(), false);
   EXPECT_LT(ahead.back(), step_s * (frames.size() - 1));
-  fs::remove_all(root);
 }
 
 // Ctrl-C while a live replay waits for a frame (here 5 s away, a gap in
 // the recording) stops the wait at once, as it stops a scan between frames.
 TEST(FrameReader, CtrlCStopsALiveReplaysWait) {
-  const fs::path root = TempFolder("frame_reader_interrupted");
-  ReconstructJob job = SimulatedJob(root, "tank-target", ScanOptions(160, 120, 2, 3));
-  std::vector<FrameRecord> frames = ReadFramesCsv(job.dataset / "frames.csv");
-  ASSERT_EQ(frames.size(), 2u);
-  frames[1].timestamp_s = frames[0].timestamp_s + 5.0;
-  const Rig rig = ReadRigYaml(job.dataset / "rig.yaml");
-  ReconstructReport report;
-  LineStage stage(job, job.dataset, rig.cameras.front(), rig.lasers.front(),
-                  rig.CameraFromLaser(0, 0), frames, &report);
+  RetimedScan scan("frame_reader_interrupted", 2, [](std::vector<FrameRecord>* frames) {
+    if (frames->size() == 2) (*frames)[1].timestamp_s = (*frames)[0].timestamp_s + 5.0;
+  });
+  ASSERT_EQ(scan.frames.size(), 2u);
   std::signal(SIGINT, SIG_DFL);  // as from a terminal
   const auto start = std::chrono::steady_clock::now();
   {
     InterruptibleScope interruptible;
-    FrameReader reader(frames, &stage, nullptr, start);
+    FrameReader reader(scan.frames, scan.stage.get(), nullptr, start);
     reader.Get(0);
     std::thread ctrl_c([] {
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -88,7 +102,6 @@ TEST(FrameReader, CtrlCStopsALiveReplaysWait) {
     ctrl_c.join();
   }
   EXPECT_LT(SecondsSince(start), 2.0);
-  fs::remove_all(root);
 }
 
 }  // namespace
