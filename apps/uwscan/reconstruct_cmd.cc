@@ -1,4 +1,5 @@
 // uwscan reconstruct: the self-referenced scan of a dataset.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -27,6 +28,22 @@ std::string PassesNote(int passes, bool automatic) {
 std::string TrackEveryNote(int every) {
   if (every <= 1) return "";
   return ", tracking the mean of every " + std::to_string(every) + " frames";
+}
+
+// --smoothing-half-window's help, from the values ResolveSmoothingHalfWindow
+// uses, so that it cannot fall out of step with them.
+std::string SmoothingHelp() {
+  const int frames = fusion::SelfReferencedOptions().smoothing_half_window;
+  const double span_s = ReconstructJob::kSmoothingMaxHalfSpanS;
+  auto at = [&](int rate_hz) {
+    return std::to_string(std::min<long>(frames, std::lround(span_s * rate_hz))) + " at " +
+           std::to_string(rate_hz) + " Hz";
+  };
+  char span[32];
+  std::snprintf(span, sizeof(span), "%g", span_s);
+  return "poses smoothed over +-N frames (quadratic fit), output N frames late (0 = raw); auto: " +
+         std::to_string(frames) + ", but at most the frames within " + span + " s on each side (" +
+         at(30) + ", " + at(15) + ")";
 }
 
 }  // namespace
@@ -133,9 +150,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   cmd->add_option("--ba-history", job->self_referenced.odometry.ba.history_keyframes,
                   "keyframes before the window whose rays of its points enter the BA, held")
       ->capture_default_str();
-  cmd->add_option("--smoothing-half-window", *smoothing_half_window,
-                  "poses smoothed over +-N frames (quadratic fit), output N frames late (0 = "
-                  "raw); auto: 10, but at most the frames within 0.2 s (6 at 30 Hz, 3 at 15 Hz)")
+  cmd->add_option("--smoothing-half-window", *smoothing_half_window, SmoothingHelp())
       ->capture_default_str();
   cmd->add_option("--init-refinements", job->self_referenced.init_refinements,
                   "times the frames held at the start are at least tracked and their laser "
