@@ -441,6 +441,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"frames_without_pose_at_start", dropped_},
           {"first_frame_with_pose", init_frame_},
           {"start_attempts_refused", init_refused_},
+          {"start_attempts_refused_unsettled", init_refused_unsettled_},
           {"start_refinements", init_refinements_done_},
           {"start_settled",
            init_refinements_done_ > 1 ? nlohmann::json(init_settled_) : nlohmann::json()},

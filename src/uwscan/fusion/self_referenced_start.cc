@@ -144,6 +144,15 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     RefuseStart();
     return {};
   }
+  // Refinements that began to diverge: wait for more frames, a few times
+  // (max_unsettled_start_refusals; after the plane's check, whose refusals
+  // do not count).
+  if (!init_settled_ && !converging &&
+      init_refused_unsettled_ < options_.max_unsettled_start_refusals) {
+    ++init_refused_unsettled_;
+    RefuseStart();
+    return {};
+  }
   running_ = true;
   guess_odometry_.reset();
   const Held& first = held_.front();

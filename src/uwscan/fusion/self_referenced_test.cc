@@ -207,17 +207,31 @@ TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
 
   // Poses that do not converge (with the tolerances above, and nothing
   // counting as converging) stop the refinements after the first that can
-  // show it (the third change; the first two are not compared), unsettled,
-  // and the report says so.
+  // show it (the third change; the first two are not compared), unsettled:
+  // that start is refused once (max_unsettled_start_refusals), the next
+  // one is taken as it is, and the report says so.
   job.out = root / "unconverged";
   job.self_referenced.init_converging_ratio = 1e-9;
   const ReconstructReport unconverged = RunReconstruct(job);
   EXPECT_EQ(unconverged.pose_details["start_refinements"].get<int>(), 4);
   EXPECT_FALSE(unconverged.pose_details["start_settled"].get<bool>());
+  EXPECT_EQ(unconverged.pose_details["start_attempts_refused_unsettled"].get<int>(), 1);
+  EXPECT_EQ(details["start_attempts_refused_unsettled"].get<int>(), 0);
+  EXPECT_GT(unconverged.pose_details["start_attempts_refused"].get<int>(),
+            details["start_attempts_refused"].get<int>());
   const std::vector<std::string> warnings = unconverged.Warnings();
   EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
     return w.find("had not settled after 4 refinements") != std::string::npos;
   }));
+  // With no such refusal allowed, the first diverging start is taken, as
+  // it was before there were any.
+  job.out = root / "unconverged_taken";
+  job.self_referenced.max_unsettled_start_refusals = 0;
+  const ReconstructReport taken = RunReconstruct(job);
+  EXPECT_EQ(taken.pose_details["start_attempts_refused_unsettled"].get<int>(), 0);
+  EXPECT_EQ(taken.pose_details["start_attempts_refused"].get<int>(),
+            details["start_attempts_refused"].get<int>());
+  EXPECT_EQ(taken.pose_details["start_refinements"].get<int>(), 4);
 
   // Windowed BAs stopped by their time limit are counted in the start's
   // attempts too (they can move the start, and so the whole trajectory): with a

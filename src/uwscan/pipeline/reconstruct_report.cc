@@ -296,6 +296,10 @@ std::vector<std::string> ReconstructReport::Warnings() const {
                " start attempt(s) found the held frames' profiles too narrow once tracked, or "
                "their plane running through the camera: the laser sweeps slowly, or the "
                "platform moved with the sweep";
+        if (const int unsettled = count("start_attempts_refused_unsettled"); unsettled > 0) {
+          why += " (" + std::to_string(unsettled) +
+                 " of them because the held frames' poses began to diverge before they settled)";
+        }
       }
       without_pose(waiting, " while the odometry waited to start", why);
     }

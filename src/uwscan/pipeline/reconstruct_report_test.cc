@@ -93,6 +93,11 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   ASSERT_EQ(partial.Warnings().size(), 1u);
   EXPECT_TRUE(says(partial, 0,
                    "9 start attempt(s) found the held frames' profiles too narrow once tracked"));
+  EXPECT_EQ(partial.Warnings()[0].find("diverge"), std::string::npos);
+  partial.pose_details["start_attempts_refused_unsettled"] = 1;
+  EXPECT_TRUE(says(partial, 0,
+                   "platform moved with the sweep (1 of them because the held frames' poses "
+                   "began to diverge before they settled)"));
   partial.pose_source = "ins.tum";
   EXPECT_TRUE(says(partial, 0, "(ins.tum has none at their times)"));
 
