@@ -126,7 +126,7 @@ struct SelfReferencedOptions {
   // off; refused once, the next attempt settled (0.85 %). After that such
   // a start is taken as it is, with the warning: a hull's few held frames
   // rarely settle, nor do turbid water's. `uwscan reconstruct` sets it to 0
-  // for a fixed laser (no servo sweep).
+  // for a fixed laser (ReconstructJob::unsettled_start_refusals).
   int max_unsettled_start_refusals = 1;
   // Place the held frames' profiles with a plain odometry's poses before
   // the map starts (GuessHeldMotion); on a hover it finds no parallax and

@@ -226,7 +226,7 @@ TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
   // With no such refusal allowed, the first diverging start is taken, as
   // it was before there were any.
   job.out = root / "unconverged_taken";
-  job.self_referenced.max_unsettled_start_refusals = 0;
+  job.unsettled_start_refusals = 0;
   const ReconstructReport taken = RunReconstruct(job);
   EXPECT_EQ(taken.pose_details["start_attempts_refused_unsettled"].get<int>(), 0);
   EXPECT_EQ(taken.pose_details["start_attempts_refused"].get<int>(),

@@ -240,10 +240,8 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     options.contrast_sigma_fraction =
         job.contrast_scale.value_or(sweeps ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
     report.contrast_scale = options.contrast_sigma_fraction;
-    // A sweep gains surface while the start waits; a fixed laser on a moving
-    // platform only more motion for the held frames' poses to explain (a
-    // 40-frame transect refused once: point error 3.5 -> 22 mm).
-    if (!sweeps) options.max_unsettled_start_refusals = 0;
+    options.max_unsettled_start_refusals =
+        job.unsettled_start_refusals.value_or(sweeps ? options.max_unsettled_start_refusals : 0);
     if (job.oracle_depths || job.oracle_tracks) {
       // Both oracles read the same truth: loaded (and the scene prepared) once.
       const auto truth = LoadSimulatorTruth(

@@ -42,6 +42,13 @@ struct ReconstructJob {
   // residual worse on 3 seeds of 4, median 8.2 vs 3.9 mm) and do nothing
   // on the tank.
   std::optional<bool> line_ranges;
+  // Starts whose refinements began to diverge, refused to wait for more
+  // frames (SelfReferencedOptions::max_unsettled_start_refusals, which this
+  // sets): unset = that option's 1 on a servo sweep, which gains surface
+  // while the start waits, and 0 with a fixed laser on a moving platform,
+  // where waiting only adds motion for the held frames' poses to explain
+  // (a 40-frame transect refused once: point error 3.5 -> 22 mm).
+  std::optional<int> unsettled_start_refusals;
   // The tracked image's contrast equalised over a Gaussian of this fraction
   // of its width (SelfReferencedOptions::contrast_sigma_fraction, which
   // this sets); unset = kFixedLaserContrastScale with a fixed laser, 0 on

@@ -39,7 +39,7 @@ TEST(ReconstructPasses, MorePassesUntilTheTrajectorySettles) {
   // refinements diverge: the poor start the passes must recover from. (By
   // default that start is refused once, and three passes already make it:
   // checked at the end.)
-  job.self_referenced.max_unsettled_start_refusals = 0;
+  job.unsettled_start_refusals = 0;
   const auto truth = ReadTum(job.dataset / "groundtruth.tum");
   struct Run {
     ReconstructReport report;
