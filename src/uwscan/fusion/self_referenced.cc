@@ -459,7 +459,9 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"bundle_adjustments", bundle_adjustments_},
           {"start_bundle_adjustments", init_bundle_adjustments_},
           {"bundle_adjustments_stopped_by_time_limit", bundle_adjustments_time_limited_},
-          {"surface_points", surface_ ? surface_->size() : 0}};
+          {"surface_points", surface_ ? surface_->size() : 0},
+          {"points_placed_again_on_settled_plane",
+           odometry_ ? odometry_->provisional_points_placed_again() : 0}};
 }
 
 }  // namespace uwscan::fusion

@@ -247,7 +247,7 @@ bool SelfReferencedPoseProvider::StartOdometry(const Rigid3d& origin) {
                                     const Eigen::Vector3d& d) -> std::optional<vo::SurfaceHit> {
     const auto hit = live->Intersect(o, d);
     if (!hit) return std::nullopt;
-    return vo::SurfaceHit{hit->point, hit->sigma_m, hit->extrapolated};
+    return vo::SurfaceHit{hit->point, hit->sigma_m, hit->extrapolated, hit->provisional};
   };
   if (const auto oracle = options_.depth_oracle) {
     // The odometry's world is the first held frame's pose `origin`; the

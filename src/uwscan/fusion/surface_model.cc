@@ -14,7 +14,7 @@ void SurfaceModelOptions::Check() const {
   UWS_CHECK(cell_px >= 2 && max_points_per_cell >= 4 && search_radius_cells >= 0 && min_points >= 3,
             "surface model: invalid options");
   UWS_CHECK(min_local_width_m >= 0 && min_plane_width_m >= 0 && max_plane_rms_m > 0 &&
-                max_local_gap_m > 0,
+                max_local_gap_m > 0 && settled_plane_width_m >= 0,
             "surface model: invalid fit thresholds");
   UWS_CHECK(front_min_fraction > 0 && front_min_fraction <= 1 && front_min_gap_fraction > 0,
             "surface model: invalid thresholds of the surface in front");
@@ -259,7 +259,8 @@ const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& SurfaceModel::
     }
     const double count = std::max<double>(profile_centroids_.size(), 1.0);
     const double variance = sum_squares / count - (sum / count) * (sum / count);
-    if (!(std::sqrt(12.0 * std::max(variance, 0.0)) >= options_.min_plane_width_m)) {
+    plane_width_m_ = std::sqrt(12.0 * std::max(variance, 0.0));
+    if (!(plane_width_m_ >= options_.min_plane_width_m)) {
       plane_.reset();
       return plane_;
     }
@@ -432,7 +433,8 @@ std::optional<SurfaceModel::Hit> SurfaceModel::Intersect(const Eigen::Vector3d& 
     if (lambda > 0 && lambda < nearest) nearest = lambda;
   }
   if (!std::isfinite(nearest)) return std::nullopt;
-  return Hit{origin + nearest * direction, options_.extrapolated_sigma_m, true};
+  return Hit{origin + nearest * direction, options_.extrapolated_sigma_m, true,
+             nearest != front && plane_width_m_ < options_.settled_plane_width_m};
 }
 
 std::optional<Eigen::Vector3d> SurfaceModel::IntersectSwept(

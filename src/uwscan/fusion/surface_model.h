@@ -61,6 +61,15 @@ struct SurfaceModelOptions {
   // of the shaft the laser has not swept, seen from elsewhere).
   double front_min_fraction = 0.02;
   double front_min_gap_fraction = 0.1;
+  // The dominant plane's tilt across a narrow band of laser lines is only
+  // as good as the poses that placed them over its width: on a tank scan
+  // (seed 2311) it was 0.05-0.45 rad off while the band was 5-7 cm wide,
+  // 0.008 rad at 11 cm and 0.003-0.005 rad from 14 cm on. A ray that takes
+  // the plane while its profiles span less than this across the line gets
+  // a provisional hit (Hit::provisional): 2 mm of pose error (the start's
+  // settling tolerance) over this width tilts the plane by 13 mrad, 2 cm
+  // (extrapolated_sigma_m) at 1.5 m, half the tank view's footprint.
+  double settled_plane_width_m = 0.15;
   void Check() const;
 };
 
@@ -77,6 +86,7 @@ class SurfaceModel {
     Eigen::Vector3d point;
     double sigma_m = 0.0;
     bool extrapolated = false;
+    bool provisional = false;  // from the dominant plane on a narrow band
   };
   std::optional<Hit> Intersect(const Eigen::Vector3d& origin,
                                const Eigen::Vector3d& direction) const;
@@ -149,6 +159,9 @@ class SurfaceModel {
   long seen_ = 0;
   uint64_t random_state_ = 88172645463325252ull;
   mutable bool plane_dirty_ = true;
+  // How far the profiles behind the dominant plane spread across the line
+  // (2 sqrt(3) standard deviations), for Hit::provisional.
+  mutable double plane_width_m_ = 0.0;
   mutable std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> plane_;  // point, normal
   const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& DominantPlane() const;
   // The samples in front of the dominant plane and the direction their

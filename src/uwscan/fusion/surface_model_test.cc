@@ -196,6 +196,51 @@ TEST(SurfaceModel, OneProfileGivesNoPlane) {
   EXPECT_NEAR(hit->point.y(), 0.3, 0.01);
 }
 
+// The dominant plane from a band of lines narrower than
+// settled_plane_width_m gives provisional hits; once the lines spread wider
+// across, the same ray's hit is settled. Lines 1 cm apart on a floor
+// 2 m ahead (z = 2), across y.
+TEST(SurfaceModel, APlaneOnANarrowBandIsProvisional) {
+  const Camera camera = Camera::Flat1();
+  const auto line_at = [](double y) {
+    laser::Profile profile;
+    for (double x = -0.6; x <= 0.6; x += 0.01)
+      profile.points.push_back({Eigen::Vector3d(x, y, 2.0), Eigen::Vector2d::Zero(), 1.0f});
+    return profile;
+  };
+  SurfaceModelOptions options;
+  SurfaceModel floor(camera, Rigid3d(), options);
+  const Eigen::Vector3d far_ray = Eigen::Vector3d(0, -0.3, 1).normalized();  // 60 cm off
+  double y = 0.0;
+  for (; y <= 0.08; y += 0.01) floor.AddProfile(Rigid3d(), line_at(y));
+  ASSERT_TRUE(floor.HasDominantPlane());  // 9 cm: over min_plane_width_m, under 15 cm
+  auto hit = floor.Intersect(Eigen::Vector3d::Zero(), far_ray);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_TRUE(hit->extrapolated);
+  EXPECT_TRUE(hit->provisional);
+  EXPECT_NEAR(hit->point.z(), 2.0, 1e-6);
+  // A ray through the band is measured there, never provisional.
+  const auto measured =
+      floor.Intersect(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0.02, 1).normalized());
+  ASSERT_TRUE(measured.has_value());
+  EXPECT_FALSE(measured->extrapolated);
+  EXPECT_FALSE(measured->provisional);
+
+  for (; y <= 0.2; y += 0.01) floor.AddProfile(Rigid3d(), line_at(y));  // 21 cm now
+  hit = floor.Intersect(Eigen::Vector3d::Zero(), far_ray);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_TRUE(hit->extrapolated);
+  EXPECT_FALSE(hit->provisional);
+
+  // With settled_plane_width_m = 0 no hit is ever provisional.
+  options.settled_plane_width_m = 0.0;
+  SurfaceModel unchecked(camera, Rigid3d(), options);
+  for (double yy = 0.0; yy <= 0.08; yy += 0.01) unchecked.AddProfile(Rigid3d(), line_at(yy));
+  hit = unchecked.Intersect(Eigen::Vector3d::Zero(), far_ray);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_FALSE(hit->provisional);
+}
+
 // How squarely the reference view sees the dominant plane: the camera's
 // distance to it over the median distance to its points, checked against
 // the same computed from the profiles' points. Face on (z = 2), turned by

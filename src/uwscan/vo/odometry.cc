@@ -524,6 +524,8 @@ void Odometry::PruneMap() {
   }
   for (auto it = extrapolated_points_.begin(); it != extrapolated_points_.end();)
     it = map_.points.count(*it) ? std::next(it) : extrapolated_points_.erase(it);
+  for (auto it = provisional_points_.begin(); it != provisional_points_.end();)
+    it = map_.points.count(*it) ? std::next(it) : provisional_points_.erase(it);
 }
 
 }  // namespace uwscan::vo

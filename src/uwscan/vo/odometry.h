@@ -36,6 +36,11 @@ struct SurfaceHit {
   // points are measured again at later keyframes, once the laser has swept
   // there, and moved if the measurement disagrees.
   bool extrapolated = false;
+  // Extrapolated from a surface measured too narrowly to be trusted far
+  // from its points (a plane fitted on a narrow band of laser lines, whose
+  // tilt the poses' errors set): such points are placed again, once, on
+  // the surface as it is when it is no longer provisional.
+  bool provisional = false;
 };
 
 enum class FrameStatus {
@@ -188,6 +193,9 @@ class Odometry {
   const Camera& camera() const { return camera_; }
   const OdometryOptions& options() const { return options_; }
   int num_maps() const { return num_maps_; }  // 1 + re-initialisations
+  // Map points placed again once the surface they had been extrapolated
+  // from was no longer provisional (SurfaceHit::provisional).
+  int provisional_points_placed_again() const { return provisional_placed_again_; }
 
  private:
   struct Reference {
@@ -216,6 +224,8 @@ class Odometry {
                                const Eigen::Vector3d& point_world) const;
   // Map points for the newest keyframe's tracks from options_.surface.
   int AddSurfacePoints(Keyframe* keyframe);
+  // Moves a map point and drops the range constraints that held it.
+  void MovePoint(MapPoint* point, const Eigen::Vector3d& position_world);
   // Asynchronous BA (odometry_async.cc).
   struct AdjustedWindow {
     SparseMap window;
@@ -234,6 +244,7 @@ class Odometry {
   FeatureTracker tracker_;
   SparseMap map_;
   std::unordered_set<uint64_t> extrapolated_points_;  // depth from an extrapolated surface
+  std::unordered_set<uint64_t> provisional_points_;   // ... from a provisional one
   enum class State { kInitializing, kTracking, kLost } state_ = State::kInitializing;
   std::optional<Reference> reference_;
   int frame_count_ = 0;
@@ -241,9 +252,10 @@ class Odometry {
   uint64_t next_keyframe_id_ = 0;
   int num_maps_ = 0;
   int last_keyframe_inliers_ = 0;
-  int remeasured_moved_ = 0;        // extrapolated points moved to the measured surface
-  Rigid3d last_camera_from_world_;  // last emitted pose
-  double last_median_depth_ = 2.0;  // scale carried over a re-initialisation
+  int remeasured_moved_ = 0;          // extrapolated points moved to the measured surface
+  int provisional_placed_again_ = 0;  // provisional points placed on the settled surface
+  Rigid3d last_camera_from_world_;    // last emitted pose
+  double last_median_depth_ = 2.0;    // scale carried over a re-initialisation
   std::future<AdjustedWindow> pending_ba_;
   int frames_since_ba_launch_ = 0;
 };

@@ -33,6 +33,18 @@ bool Odometry::ExtrapolatedDepthAgrees(const Keyframe& keyframe, uint64_t id,
   return seen_before > 0;  // first seen now: wait for the next keyframe
 }
 
+void Odometry::MovePoint(MapPoint* point, const Eigen::Vector3d& position_world) {
+  point->position_world = position_world;
+  // The constraints that held it where it was go with it.
+  for (Keyframe& kf : map_.keyframes) {
+    auto& ranges = kf.range_constraints;
+    ranges.erase(
+        std::remove_if(ranges.begin(), ranges.end(),
+                       [id = point->id](const RangeConstraint& r) { return r.point_id == id; }),
+        ranges.end());
+  }
+}
+
 int Odometry::AddSurfacePoints(Keyframe* keyframe) {
   const Rigid3d world_from_camera = keyframe->WorldFromCamera();
   int added = 0;
@@ -46,28 +58,33 @@ int Odometry::AddSurfacePoints(Keyframe* keyframe) {
     const auto hit = options_.surface(world.origin, world.direction);
     if (!hit) continue;
     if (remeasure) {
-      if (hit->extrapolated) continue;  // still not swept
-      // Measured now. A point far from the measurement sat on the wrong
-      // surface (e.g. a shaft in front of the extrapolated hull): move it and
-      // drop the constraints that held it there.
-      extrapolated_points_.erase(id);
-      const double range = (existing->second.position_world - world.origin).norm();
-      const double measured = (hit->point_world - world.origin).norm();
-      if (std::abs(range - measured) > 3.0 * hit->sigma_m) {
-        existing->second.position_world = hit->point_world;
-        for (Keyframe& kf : map_.keyframes) {
-          auto& ranges = kf.range_constraints;
-          ranges.erase(
-              std::remove_if(ranges.begin(), ranges.end(),
-                             [id = id](const RangeConstraint& r) { return r.point_id == id; }),
-              ranges.end());
+      const bool provisional = provisional_points_.count(id) > 0;
+      if (hit->extrapolated && (!provisional || hit->provisional)) continue;  // not swept yet
+      provisional_points_.erase(id);
+      if (hit->extrapolated) {
+        // The surface it was extrapolated from has settled (a plane on a
+        // band grown wide enough): its depth from the provisional one is
+        // not kept at all (BENCHMARKS.md, "Points placed again on the
+        // settled plane").
+        MovePoint(&existing->second, hit->point_world);
+        ++provisional_placed_again_;
+      } else {
+        // Measured now. A point far from the measurement sat on the wrong
+        // surface (e.g. a shaft in front of the extrapolated hull): move it
+        // and drop the constraints that held it there.
+        extrapolated_points_.erase(id);
+        const double range = (existing->second.position_world - world.origin).norm();
+        const double measured = (hit->point_world - world.origin).norm();
+        if (std::abs(range - measured) > 3.0 * hit->sigma_m) {
+          MovePoint(&existing->second, hit->point_world);
+          ++remeasured_moved_;
         }
-        ++remeasured_moved_;
       }
     } else {
       if (hit->extrapolated && !ExtrapolatedDepthAgrees(*keyframe, id, hit->point_world)) continue;
       map_.points[id] = {id, hit->point_world, 1};
       if (hit->extrapolated) extrapolated_points_.insert(id);
+      if (hit->extrapolated && hit->provisional) provisional_points_.insert(id);
     }
     keyframe->range_constraints.push_back(
         {id, (hit->point_world - world.origin).norm(), hit->sigma_m});
