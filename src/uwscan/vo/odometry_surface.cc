@@ -64,8 +64,8 @@ int Odometry::AddSurfacePoints(Keyframe* keyframe) {
       if (hit->extrapolated) {
         // The surface it was extrapolated from has settled (a plane on a
         // band grown wide enough): its depth from the provisional one is
-        // not kept at all (BENCHMARKS.md, "Points placed again on the
-        // settled plane").
+        // not kept at all (BENCHMARKS.md, "Points from the start's narrow
+        // plane placed again once it settles").
         MovePoint(&existing->second, hit->point_world);
         ++provisional_placed_again_;
       } else {
