@@ -42,6 +42,15 @@ struct SimulatedSweep {
   Rigid3d world_from_first;
 };
 
+// A laser line across x on a floor 2 m ahead (z = 2, camera frame) at y,
+// points 1 cm apart.
+laser::Profile FloorLine(double y) {
+  laser::Profile profile;
+  for (double x = -0.6; x <= 0.6; x += 0.01)
+    profile.points.push_back({Eigen::Vector3d(x, y, 2.0), Eigen::Vector2d::Zero(), 1.0f});
+  return profile;
+}
+
 // Profiles of a laser sweeping a tank floor (from the simulator's true laser
 // points) give rays through the swept region their true depth.
 TEST(SurfaceModel, RaysMeetTheSweptSurface) {
@@ -202,17 +211,11 @@ TEST(SurfaceModel, OneProfileGivesNoPlane) {
 // 2 m ahead (z = 2), across y.
 TEST(SurfaceModel, APlaneOnANarrowBandIsProvisional) {
   const Camera camera = Camera::Flat1();
-  const auto line_at = [](double y) {
-    laser::Profile profile;
-    for (double x = -0.6; x <= 0.6; x += 0.01)
-      profile.points.push_back({Eigen::Vector3d(x, y, 2.0), Eigen::Vector2d::Zero(), 1.0f});
-    return profile;
-  };
   SurfaceModelOptions options;
   SurfaceModel floor(camera, Rigid3d(), options);
   const Eigen::Vector3d far_ray = Eigen::Vector3d(0, -0.3, 1).normalized();  // 60 cm off
   double y = 0.0;
-  for (; y <= 0.08; y += 0.01) floor.AddProfile(Rigid3d(), line_at(y));
+  for (; y <= 0.08; y += 0.01) floor.AddProfile(Rigid3d(), FloorLine(y));
   ASSERT_TRUE(floor.HasDominantPlane());  // 9 cm: over min_plane_width_m, under 15 cm
   auto hit = floor.Intersect(Eigen::Vector3d::Zero(), far_ray);
   ASSERT_TRUE(hit.has_value());
@@ -226,7 +229,7 @@ TEST(SurfaceModel, APlaneOnANarrowBandIsProvisional) {
   EXPECT_FALSE(measured->extrapolated);
   EXPECT_FALSE(measured->provisional);
 
-  for (; y <= 0.2; y += 0.01) floor.AddProfile(Rigid3d(), line_at(y));  // 21 cm now
+  for (; y <= 0.2; y += 0.01) floor.AddProfile(Rigid3d(), FloorLine(y));  // 21 cm now
   hit = floor.Intersect(Eigen::Vector3d::Zero(), far_ray);
   ASSERT_TRUE(hit.has_value());
   EXPECT_TRUE(hit->extrapolated);
@@ -235,7 +238,7 @@ TEST(SurfaceModel, APlaneOnANarrowBandIsProvisional) {
   // With settled_plane_width_m = 0 no hit is ever provisional.
   options.settled_plane_width_m = 0.0;
   SurfaceModel unchecked(camera, Rigid3d(), options);
-  for (double yy = 0.0; yy <= 0.08; yy += 0.01) unchecked.AddProfile(Rigid3d(), line_at(yy));
+  for (double yy = 0.0; yy <= 0.08; yy += 0.01) unchecked.AddProfile(Rigid3d(), FloorLine(yy));
   hit = unchecked.Intersect(Eigen::Vector3d::Zero(), far_ray);
   ASSERT_TRUE(hit.has_value());
   EXPECT_FALSE(hit->provisional);
@@ -251,12 +254,6 @@ TEST(SurfaceModel, APlaneOnANarrowBandIsProvisional) {
 // BENCHMARKS.md).
 TEST(SurfaceModel, ViewCosineSaysHowSquarelyThePlaneIsSeen) {
   const Camera camera = Camera::Flat1();
-  const auto line = [](double y) {
-    laser::Profile profile;
-    for (double x = -0.6; x <= 0.6; x += 0.01)
-      profile.points.push_back({Eigen::Vector3d(x, y, 2.0), Eigen::Vector2d::Zero(), 1.0f});
-    return profile;
-  };
   const auto expected = [](const std::vector<laser::Profile>& profiles, double distance_m) {
     std::vector<double> ranges;
     for (const auto& profile : profiles)
@@ -275,11 +272,11 @@ TEST(SurfaceModel, ViewCosineSaysHowSquarelyThePlaneIsSeen) {
   const Eigen::AngleAxisd turn(60.0 * M_PI / 180.0, Eigen::Vector3d::UnitX());
   const Eigen::Vector3d pivot(0.0, 0.0, 2.0), beside(0.0, 0.06, 0.0);
   for (int i = 0; i <= 10; ++i) {
-    face_on.push_back(line(0.01 * i));
-    turned.push_back(line(0.01 * i));
+    face_on.push_back(FloorLine(0.01 * i));
+    turned.push_back(FloorLine(0.01 * i));
     for (auto& p : turned.back().points)
       p.point_in_camera = pivot + turn * (p.point_in_camera - pivot);
-    through.push_back(line(0.1));
+    through.push_back(FloorLine(0.1));
     for (auto& p : through.back().points)
       p.point_in_camera = beside + (0.85 + 0.03 * i) * (p.point_in_camera - beside);
   }
