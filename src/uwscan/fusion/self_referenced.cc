@@ -11,6 +11,12 @@
 
 namespace uwscan::fusion {
 
+vo::OdometryOptions SelfReferencedOdometryOptions() {
+  vo::OdometryOptions options;
+  options.ba.huber_px = 0.3;
+  return options;
+}
+
 void SelfReferencedOptions::Check() const {
   odometry.Check();
   surface.Check();
@@ -35,6 +41,8 @@ void SelfReferencedOptions::Check() const {
             "the start plane's view cosine must be in [0, 1], got ", min_start_plane_view_cosine);
   UWS_CHECK(init_converging_ratio > 0 && init_converging_ratio <= 1, context,
             "the start's converging ratio must be in (0, 1], got ", init_converging_ratio);
+  UWS_CHECK(running_ba_iterations >= 1, context,
+            "the running scan's BA iterations must be >= 1, got ", running_ba_iterations);
   UWS_CHECK(track_every >= 1, context, "track every N frames needs N >= 1, got ", track_every);
   UWS_CHECK(!prior_surface || prior_first_frame >= 0, context,
             "a first pass's surface needs the frame its map started at");

@@ -154,6 +154,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     return {};
   }
   running_ = true;
+  odometry_->SetBundleAdjustmentIterations(options_.running_ba_iterations);
   guess_odometry_.reset();
   const Held& first = held_.front();
   last_time_s_ = first.input.timestamp_s;

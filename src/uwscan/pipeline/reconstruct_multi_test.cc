@@ -144,17 +144,29 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
 
   // One pass, its points from the start's plane placed again once the plane
   // has settled (the default): most of what the passes mend (0.94 mm
-  // against 11.0 when written).
+  // against 11.0 when written). Checked with the odometry's options it was
+  // written with: under the tracks' robust loss at their noise
+  // (fusion::SelfReferencedOdometryOptions) one pass on this hull gives
+  // 3.91 mm, and 11.75 with the points placed again. One pass on a hull
+  // whose shaft the laser reaches late is a lottery either way (0.5-30 mm
+  // on twelve more hulls, with either loss), which is why auto runs more
+  // (BENCHMARKS.md, "A robust loss at the tracks' noise").
   job.poses_file.reset();
+  const fusion::SelfReferencedOptions self_referenced = job.self_referenced;
+  job.self_referenced.odometry = vo::OdometryOptions();
+  job.self_referenced.running_ba_iterations = job.self_referenced.odometry.ba.max_iterations;
+  const double one_pass_as_written = shaft_residual(run("one_as_written", 1));
   job.self_referenced.surface.settled_plane_width_m =
       fusion::SurfaceModelOptions{}.settled_plane_width_m;
   const ReconstructReport settled = run("one_settled", 1);
   EXPECT_GT(settled.pose_details.value("points_placed_again_on_settled_plane", 0), 0);
   const double one_settled = shaft_residual(settled);
-  std::printf("one pass, the points placed again on the settled plane: %.2f mm\n",
-              one_settled * 1e3);
-  EXPECT_LT(one_settled, 0.2 * one_pass);
-  job.self_referenced.surface.settled_plane_width_m = 0.0;
+  std::printf(
+      "one pass with the odometry's options as written: %.2f mm, the points placed again on the "
+      "settled plane: %.2f mm\n",
+      one_pass_as_written * 1e3, one_settled * 1e3);
+  EXPECT_LT(one_settled, 0.2 * one_pass_as_written);
+  job.self_referenced = self_referenced;  // (settled_plane_width_m 0 again)
 
   // A first start far from settled (here by a tolerance tightened
   // twentyfold) runs again on half the image where the first pass is the

@@ -192,6 +192,9 @@ class Odometry {
   const std::vector<FeatureTrack>& tracks() const { return tracker_.tracks(); }
   const Camera& camera() const { return camera_; }
   const OdometryOptions& options() const { return options_; }
+  // The windowed BAs launched from now on stop after this many iterations
+  // (BundleAdjustmentOptions::max_iterations).
+  void SetBundleAdjustmentIterations(int iterations);
   int num_maps() const { return num_maps_; }  // 1 + re-initialisations
   // Map points placed again once the surface they had been extrapolated
   // from was no longer provisional (SurfaceHit::provisional).
