@@ -41,25 +41,20 @@ TEST(ReconstructTurbid, ARobustLossAtTheTracksNoiseSettlesTheStart) {
   ReconstructJob job = SimulatedJob(root, "tank-target", options);
   job.retry_smaller_tracking = false;  // each run at 640 px
   const auto truth = ReadTum(job.dataset / "groundtruth.tum");
-  const auto run = [&](const std::string& name, const vo::OdometryOptions& odometry,
-                       int running_ba_iterations) {
+  const auto run = [&](const std::string& name, bool before) {
     job.out = root / name;
-    job.self_referenced.odometry = odometry;
-    job.self_referenced.running_ba_iterations = running_ba_iterations;
+    job.self_referenced = fusion::SelfReferencedOptions();
+    if (before) UseOdometryBeforeTheRobustLoss(&job.self_referenced);
     // Not stopped by the machine's load (ctest runs tests side by side).
     job.self_referenced.odometry.ba.max_solver_time_s = 10.0;
     const ReconstructReport report = RunReconstruct(job);
     return std::make_pair(report,
                           ComputeTrajectoryMetrics(ReadTum(job.out / "trajectory.tum"), truth));
   };
-  const vo::OdometryOptions self_referenced = fusion::SelfReferencedOdometryOptions();
-  const double robust_px = self_referenced.ba.huber_px;
+  const double robust_px = fusion::SelfReferencedOdometryOptions().ba.huber_px;
   EXPECT_LT(robust_px, 0.5);
-  const auto [robust, at_noise] =
-      run("robust", self_referenced, fusion::SelfReferencedOptions().running_ba_iterations);
-  // As before: 1.5 px, and the BA's 10 iterations throughout.
-  const auto [wide, at_1_5] =
-      run("wide", vo::OdometryOptions(), vo::OdometryOptions().ba.max_iterations);
+  const auto [robust, at_noise] = run("robust", false);
+  const auto [wide, at_1_5] = run("wide", true);
   EXPECT_EQ(vo::OdometryOptions().ba.huber_px, 1.5);
   std::printf(
       "turbid hover at 640 px: Sim(3) scale %.3f, ATE %.1f mm with the loss at %.1f px; %.3f, "

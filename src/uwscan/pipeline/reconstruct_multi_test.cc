@@ -153,8 +153,7 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   // (BENCHMARKS.md, "A robust loss at the tracks' noise").
   job.poses_file.reset();
   const fusion::SelfReferencedOptions self_referenced = job.self_referenced;
-  job.self_referenced.odometry = vo::OdometryOptions();
-  job.self_referenced.running_ba_iterations = job.self_referenced.odometry.ba.max_iterations;
+  UseOdometryBeforeTheRobustLoss(&job.self_referenced);
   const double one_pass_as_written = shaft_residual(run("one_as_written", 1));
   job.self_referenced.surface.settled_plane_width_m =
       fusion::SurfaceModelOptions{}.settled_plane_width_m;

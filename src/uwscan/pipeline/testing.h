@@ -16,6 +16,15 @@
 
 namespace uwscan::pipeline_testing {
 
+// The self-referenced odometry as before its robust loss at the tracks'
+// noise: the plain odometry's options (Huber at 1.5 px), its BAs at their
+// 10 iterations throughout. For tests whose premise is a harm that loss
+// mends (BENCHMARKS.md, "A robust loss at the tracks' noise").
+inline void UseOdometryBeforeTheRobustLoss(fusion::SelfReferencedOptions* options) {
+  options->odometry = vo::OdometryOptions();
+  options->running_ba_iterations = options->odometry.ba.max_iterations;
+}
+
 // A simulated scan's size, length and seed; the rest the scenario's own.
 inline sim::ScenarioOptions ScanOptions(int width, int height, int frames, uint64_t seed) {
   sim::ScenarioOptions options;

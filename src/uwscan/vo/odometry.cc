@@ -95,6 +95,11 @@ Odometry::Odometry(const Camera& camera, const OdometryOptions& options)
   camera_.Check("vo camera");
 }
 
+void Odometry::SetBundleAdjustmentIterations(int iterations) {
+  UWS_CHECK(iterations >= 1, "BA iterations must be >= 1, got ", iterations);
+  options_.ba.max_iterations = iterations;
+}
+
 Odometry::~Odometry() { DiscardBundleAdjustment(); }
 
 FrameResult Odometry::ProcessFrame(const cv::Mat& image, const cv::Mat& mask, double timestamp_s,

@@ -4,15 +4,9 @@
 // outlier decisions are merged a fixed number of frames later
 // (OdometryOptions::async_merge_frames), at the latest before the next
 // keyframe's BA starts, so at most one is in flight.
-#include "uwscan/util/error.h"
 #include "uwscan/vo/odometry.h"
 
 namespace uwscan::vo {
-
-void Odometry::SetBundleAdjustmentIterations(int iterations) {
-  UWS_CHECK(iterations >= 1, "BA iterations must be >= 1, got ", iterations);
-  options_.ba.max_iterations = iterations;
-}
 
 void Odometry::LaunchBundleAdjustment() {
   SparseMap window;
