@@ -144,6 +144,10 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "width (the lights travel with the camera; 0 = off); auto: 0.05 with a fixed "
                   "laser (the platform's motion scans), 0 on servo sweeps (hovering)")
       ->capture_default_str();
+  cmd->add_option("--log-offset", job->self_referenced.log_offset_fraction,
+                  "track the image in logarithm, log(I + this x its mean): the lights' gain "
+                  "across a patch becomes an offset the high pass removes (0 = linear)")
+      ->capture_default_str();
   cmd->add_option("--window", job->self_referenced.odometry.ba.window_size,
                   "keyframes in the odometry's windowed bundle adjustment")
       ->capture_default_str();

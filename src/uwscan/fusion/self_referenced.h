@@ -71,6 +71,14 @@ struct SelfReferencedOptions {
   // move the texture through the light's whole fall-off, off on the
   // hovering servo sweeps, where it only adds noise.
   double contrast_sigma_fraction = 0.0;
+  // The passive image is tracked in logarithm, log(I + this x its mean)
+  // (NormalizeIllumination; 0 = linear, as before): the light's gain
+  // across a patch, which moves as the patch moves through the fall-off,
+  // becomes an offset the high pass removes. Linear, the tank scans' turns
+  // came out 1.1 % short (0.985-0.993 of the truth) and their positions
+  // long by as much; the offset keeps the dark parts' noise at most 3x
+  // that of the mean's (BENCHMARKS.md, "The tracked image in logarithm").
+  double log_offset_fraction = 0.5;
   // A pose that moves faster than a vehicle can is not believed: the frame
   // gets no pose and the map restarts from the last believed one.
   double max_rotation_rate_deg_s = 720.0;
@@ -217,9 +225,11 @@ class SelfReferencedPoseProvider : public PoseProvider {
   }
   // 8-bit high pass of the passive image (local mean removed, Gaussian of
   // `sigma_px`) with its contrast equalised over `contrast_sigma_px` (0:
-  // not), so that lights moving with the camera do not bias tracking.
+  // not), so that lights moving with the camera do not bias tracking;
+  // with `log_offset` > 0 of log(image + log_offset x its mean), in grey
+  // levels of the mean (SelfReferencedOptions::log_offset_fraction).
   static cv::Mat NormalizeIllumination(const cv::Mat& image, double sigma_px,
-                                       double contrast_sigma_px = 0.0);
+                                       double contrast_sigma_px = 0.0, double log_offset = 0.0);
   // Where a colour (laser::kRed or kBlue) sits in each 2x2 cell of a raw
   // mosaic named like rig.yaml's `bayer` (rggb ...): column, row; none for
   // green (two samples per cell) or "none".

@@ -193,13 +193,30 @@ cv::Mat Upsampled(const cv::Mat& small, const cv::Size& size) {
 }  // namespace
 
 cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, double sigma_px,
-                                                          double contrast_sigma_px) {
+                                                          double contrast_sigma_px,
+                                                          double log_offset) {
   // The lights travel with the camera, so the scene's shading moves across
   // the image from frame to frame and pulls Lucas-Kanade off the texture.
   // Subtracting the local mean (a high pass) keeps the texture only.
   cv::Mat value, result;
   image.convertTo(value, CV_32F, GreyLevelScale(image.depth()));
   const bool big = image.cols >= 64 && image.rows >= 64;
+  // The light also multiplies the texture, and across a patch its gain
+  // changes as the patch moves through the fall-off: Lucas-Kanade then
+  // reads part of the change as motion. In logarithm the gain is an
+  // offset, which the high pass removes. The offset added first (a
+  // fraction of the image's mean) keeps the dark parts' noise from being
+  // raised as much as their texture; the result is in grey levels of the
+  // image's mean (a change of 1 % reads as 1 % of the mean).
+  double log_unit = 0.0;
+  if (log_offset > 0.0) {
+    const double mean = cv::mean(value)[0];
+    if (mean > 0.0) {
+      const cv::Mat shifted = value + log_offset * mean;
+      cv::log(shifted, value);
+      log_unit = mean;
+    }
+  }
   cv::Mat texture = value - Upsampled(BlurredSmall(value, sigma_px, sigma_px >= 4.0 && big ? 4 : 1),
                                       value.size());
   if (contrast_sigma_px > 0) {
@@ -222,6 +239,7 @@ cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, 
       texture = texture.mul(Upsampled(gain, texture.size()));
     }
   }
+  if (log_unit > 0.0) texture *= log_unit;
   cv::Mat high_pass = texture * 4.0 + 128.0;
   high_pass.convertTo(result, CV_8U);
   return result;

@@ -240,6 +240,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     options.contrast_sigma_fraction =
         job.contrast_scale.value_or(sweeps ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
     report.contrast_scale = options.contrast_sigma_fraction;
+    report.log_offset = options.log_offset_fraction;
     options.max_unsettled_start_refusals =
         job.unsettled_start_refusals.value_or(sweeps ? options.max_unsettled_start_refusals : 0);
     if (job.oracle_depths || job.oracle_tracks) {

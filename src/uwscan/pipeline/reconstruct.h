@@ -231,6 +231,7 @@ struct ReconstructReport {
   long texture_epipolar_matches = 0;
   bool line_ranges = false;     // whether the odometry used them
   double contrast_scale = 0.0;  // the odometry's, as used (ReconstructJob::contrast_scale)
+  double log_offset = 0.0;      // SelfReferencedOptions::log_offset_fraction, as used
   long albedo_edge_points = 0;  // line points dropped on an albedo edge
   // Line candidates dropped for their colour (ReconstructJob::drop_off_colour),
   // and the frames with such a segment.

@@ -36,6 +36,13 @@ void ReconstructJob::Check() const {
                      std::to_string(self_referenced.max_tracking_width));
   CheckOdometryFlags(self_referenced.odometry);
   if (contrast_scale) CheckContrastScale(*contrast_scale);  // replaces self_referenced's
+  const double log_offset = self_referenced.log_offset_fraction;
+  if (!(log_offset >= 0.0 && log_offset <= 100.0)) {
+    throw UsageError(
+        "--log-offset must be in [0, 100] (of the tracked image's mean; 0 = linear), "
+        "got " +
+        std::to_string(log_offset));
+  }
   if (smoothing_half_window && *smoothing_half_window < 0) {
     throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses) or auto, got " +
                      std::to_string(*smoothing_half_window));
@@ -525,6 +532,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"texture_candidates_matched_epipolar", texture_epipolar_matches},
       {"line_ranges", line_ranges},
       {"contrast_scale", contrast_scale},
+      {"log_offset", log_offset},
       {"points_dropped_on_albedo_edges", albedo_edge_points},
       {"off_colour_candidates_ignored", off_colour_points},
       {"frames_with_off_colour_candidates", frames_with_off_colour},

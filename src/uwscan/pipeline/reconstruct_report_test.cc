@@ -442,6 +442,27 @@ TEST(ReconstructStartPlane, TheLargestAngleIsTheViewCosine) {
     EXPECT_THROW(StartPlaneViewCosine(bad), UsageError) << bad;
 }
 
+// --log-offset: 0 (linear) up to 100 times the image's mean; else a usage
+// error that names the flag.
+TEST(ReconstructLogOffset, OutOfRangeIsAUsageError) {
+  ReconstructJob job;
+  job.dataset = "d";
+  job.out = "o";
+  for (const double good : {0.0, 0.5, 100.0}) {
+    job.self_referenced.log_offset_fraction = good;
+    EXPECT_NO_THROW(job.Check()) << good;
+  }
+  for (const double bad : {-0.1, 100.5, std::nan("")}) {
+    job.self_referenced.log_offset_fraction = bad;
+    try {
+      job.Check();
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("--log-offset"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A live run's lags: the largest and when its frame came, the median, the
 // last, and at each whole second the lag of the last frame delivered by
 // then (none before the first placed frame, the one before if none came

@@ -25,6 +25,15 @@ inline void UseOdometryBeforeTheRobustLoss(fusion::SelfReferencedOptions* option
   options->running_ba_iterations = options->odometry.ba.max_iterations;
 }
 
+// The passive image tracked linear, as before it was tracked in logarithm
+// (SelfReferencedOptions::log_offset_fraction 0): for tests whose premise
+// is a harm the logarithm mends too, or that compare other settings on the
+// image they were written on (BENCHMARKS.md, "The tracked image in
+// logarithm").
+inline void UseLinearTrackedImage(fusion::SelfReferencedOptions* options) {
+  options->log_offset_fraction = 0.0;
+}
+
 // A simulated scan's size, length and seed; the rest the scenario's own.
 inline sim::ScenarioOptions ScanOptions(int width, int height, int frames, uint64_t seed) {
   sim::ScenarioOptions options;
