@@ -35,8 +35,8 @@ using namespace pipeline_testing;
 // it settles and the trajectory is metric (0.973; BENCHMARKS.md, "A
 // robust loss at the tracks' noise"). Both on the linear tracked image the
 // loss was chosen on: in logarithm (the default) this hover's start at
-// 640 px does not settle (0.874; it is retried at 320 px), BENCHMARKS.md,
-// "The tracked image in logarithm".
+// 640 px does not settle (0.874 here; by default it is then retried at
+// 320 px, 1.055), BENCHMARKS.md, "The tracked image in logarithm".
 TEST(ReconstructTurbid, ARobustLossAtTheTracksNoiseSettlesTheStart) {
   const fs::path root = TempFolder("turbid_loss");
   sim::ScenarioOptions options = ScanOptions(640, 480, 100, 5);
