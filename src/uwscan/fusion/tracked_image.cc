@@ -212,8 +212,8 @@ cv::Mat SelfReferencedPoseProvider::NormalizeIllumination(const cv::Mat& image, 
   if (log_offset > 0.0) {
     const double mean = cv::mean(value)[0];
     if (mean > 0.0) {
-      const cv::Mat shifted = value + log_offset * mean;
-      cv::log(shifted, value);
+      value += log_offset * mean;
+      cv::log(value, value);
       log_unit = mean;
     }
   }
