@@ -32,10 +32,9 @@ void SelfReferencedOptions::Check() const {
             "the tracking width must be >= 0 (0 = full resolution), got ", max_tracking_width);
   UWS_CHECK(contrast_sigma_fraction >= 0 && contrast_sigma_fraction <= 0.5, context,
             "the contrast scale must be in [0, 0.5] of the width, got ", contrast_sigma_fraction);
-  UWS_CHECK(
-      std::isfinite(log_offset_fraction) && log_offset_fraction >= 0 && log_offset_fraction <= 100,
-      context, "the tracked image's log offset must be in [0, 100] of its mean, got ",
-      log_offset_fraction);
+  UWS_CHECK(log_offset_fraction >= 0 && log_offset_fraction <= kMaxLogOffsetFraction, context,
+            "the tracked image's log offset must be in [0, ", kMaxLogOffsetFraction,
+            "] of its mean, got ", log_offset_fraction);
   UWS_CHECK(init_refinements >= 0 && max_init_refinements >= init_refinements, context,
             "init refinements must be >= 0 and at most the maximum, got ", init_refinements,
             " and ", max_init_refinements);

@@ -79,6 +79,7 @@ struct SelfReferencedOptions {
   // long by as much; the offset keeps the dark parts' noise at most 3x
   // that of the mean's (BENCHMARKS.md, "The tracked image in logarithm").
   double log_offset_fraction = 0.5;
+  static constexpr double kMaxLogOffsetFraction = 100.0;  // nearly linear by then
   // A pose that moves faster than a vehicle can is not believed: the frame
   // gets no pose and the map restarts from the last believed one.
   double max_rotation_rate_deg_s = 720.0;

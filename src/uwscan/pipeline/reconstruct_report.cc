@@ -37,12 +37,10 @@ void ReconstructJob::Check() const {
   CheckOdometryFlags(self_referenced.odometry);
   if (contrast_scale) CheckContrastScale(*contrast_scale);  // replaces self_referenced's
   const double log_offset = self_referenced.log_offset_fraction;
-  if (!(log_offset >= 0.0 && log_offset <= 100.0)) {
-    throw UsageError(
-        "--log-offset must be in [0, 100] (of the tracked image's mean; 0 = linear), "
-        "got " +
-        std::to_string(log_offset));
-  }
+  UWS_USAGE_CHECK(
+      log_offset >= 0.0 && log_offset <= fusion::SelfReferencedOptions::kMaxLogOffsetFraction,
+      "--log-offset must be in [0, ", fusion::SelfReferencedOptions::kMaxLogOffsetFraction,
+      "] (of the tracked image's mean; 0 = linear), got ", log_offset);
   if (smoothing_half_window && *smoothing_half_window < 0) {
     throw UsageError("--smoothing-half-window must be >= 0 (0 = raw poses) or auto, got " +
                      std::to_string(*smoothing_half_window));

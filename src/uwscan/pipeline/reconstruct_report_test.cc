@@ -448,7 +448,7 @@ TEST(ReconstructLogOffset, OutOfRangeIsAUsageError) {
   ReconstructJob job;
   job.dataset = "d";
   job.out = "o";
-  for (const double good : {0.0, 0.5, 100.0}) {
+  for (const double good : {0.0, 0.5, fusion::SelfReferencedOptions::kMaxLogOffsetFraction}) {
     job.self_referenced.log_offset_fraction = good;
     EXPECT_NO_THROW(job.Check()) << good;
   }
