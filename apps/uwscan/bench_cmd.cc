@@ -106,6 +106,11 @@ void RegisterBenchCommands(CLI::App& app) {
   auto pipeline_track_every = std::make_shared<std::string>("auto");
   pipeline->add_option("--track-every", *pipeline_track_every, "as reconstruct --track-every")
       ->capture_default_str();
+  auto pipeline_start_screen_every = std::make_shared<std::string>("auto");
+  pipeline
+      ->add_option("--start-screen-every", *pipeline_start_screen_every,
+                   "as reconstruct --start-screen-every")
+      ->capture_default_str();
   pipeline->add_option("--line-window", pipeline_options->line_window_px,
                        "as reconstruct --line-window");
   pipeline->add_flag("!--no-preread", pipeline_options->preread,
@@ -114,11 +119,14 @@ void RegisterBenchCommands(CLI::App& app) {
   pipeline->add_flag("--live", pipeline_options->live,
                      "deliver the frames at the camera's pace, as a live camera would, and "
                      "report how far the cloud falls behind it (live_lag_s); one pass");
-  pipeline->callback([pipeline_options, pipeline_dataset, pipeline_track_every] {
-    pipeline_options->dataset = *pipeline_dataset;
-    pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);
-    std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
-  });
+  pipeline->callback(
+      [pipeline_options, pipeline_dataset, pipeline_track_every, pipeline_start_screen_every] {
+        pipeline_options->dataset = *pipeline_dataset;
+        pipeline_options->track_every = ParseTrackEvery(*pipeline_track_every);
+        pipeline_options->start_screen_every =
+            ParseTrackEvery(*pipeline_start_screen_every, "--start-screen-every");
+        std::cout << RunPipelineBenchmark(*pipeline_options).dump(2) << "\n";
+      });
 
   auto tracks_options = std::make_shared<TrackAccuracyOptions>();
   auto tracks_dataset = std::make_shared<std::string>();

@@ -63,6 +63,7 @@ void RegisterReconstructCommand(CLI::App& app) {
   auto keep_off_colour = std::make_shared<bool>(false);
   auto passes = std::make_shared<std::string>("auto");
   auto track_every = std::make_shared<std::string>("auto");
+  auto start_screen_every = std::make_shared<std::string>("auto");
   auto smoothing_half_window = std::make_shared<std::string>("auto");
   auto max_start_plane_angle = std::make_shared<double>(DefaultMaxStartPlaneAngleDeg());
   auto contrast_scale = std::make_shared<std::string>("auto");
@@ -138,6 +139,12 @@ void RegisterReconstructCommand(CLI::App& app) {
                   "the odometry tracks every Nth frame once running; the frames between get "
                   "poses interpolated between the tracked ones; auto: every frame up to 100 Hz, "
                   "every second at 101-200 Hz, ...")
+      ->capture_default_str();
+  cmd->add_option("--start-screen-every", *start_screen_every,
+                  "once a start attempt is refused because its held profiles are too narrow for "
+                  "the plane, the later ones first track every Nth frame held (a screen), then as "
+                  "--track-every; auto: at most 40 per second and at least --track-every (every "
+                  "4th at 144 Hz)")
       ->capture_default_str();
   cmd->add_option("--contrast-scale", *contrast_scale,
                   "equalise the tracked image's contrast over a Gaussian of this fraction of its "
@@ -230,6 +237,7 @@ void RegisterReconstructCommand(CLI::App& app) {
                        std::to_string(ReconstructJob::kMaxPasses) + ", got '" + *passes + "'");
     }
     job->track_every = ParseTrackEvery(*track_every);
+    job->start_screen_every = ParseTrackEvery(*start_screen_every, "--start-screen-every");
     job->smoothing_half_window = ParseSmoothingHalfWindow(*smoothing_half_window);
     job->self_referenced.min_start_plane_view_cosine = StartPlaneViewCosine(*max_start_plane_angle);
     job->retry_smaller_tracking = tracking_width->count() == 0;

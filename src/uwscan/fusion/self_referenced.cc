@@ -47,6 +47,9 @@ void SelfReferencedOptions::Check() const {
   UWS_CHECK(running_ba_iterations >= 1, context,
             "the running scan's BA iterations must be >= 1, got ", running_ba_iterations);
   UWS_CHECK(track_every >= 1, context, "track every N frames needs N >= 1, got ", track_every);
+  UWS_CHECK(start_screen_every >= 0, context,
+            "the refused start's screen tracking every N needs N >= 1 (0: as once running), got ",
+            start_screen_every);
   UWS_CHECK(!prior_surface || prior_first_frame >= 0, context,
             "a first pass's surface needs the frame its map started at");
 }
@@ -469,6 +472,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"line_range_constraints", line_ranges_},
           {"bundle_adjustments", bundle_adjustments_},
           {"start_bundle_adjustments", init_bundle_adjustments_},
+          {"start_frames_tracked", init_frames_tracked_},
           {"bundle_adjustments_stopped_by_time_limit", bundle_adjustments_time_limited_},
           {"surface_points", surface_ ? surface_->size() : 0},
           {"points_placed_again_on_settled_plane",

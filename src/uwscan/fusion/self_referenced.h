@@ -174,6 +174,19 @@ struct SelfReferencedOptions {
   // error per frame fell by 21-41 % (BENCHMARKS.md, "Two frames tracked as
   // one"). The start's held frames are tracked one by one as before.
   bool average_skipped_frames = true;
+  // Once a start attempt has been refused because its held profiles,
+  // placed with tracked poses, were too narrow for the plane, each later
+  // one first tracks every Nth held frame only (0: track_every): that
+  // first tracking mostly screens whether they span it now, and a hover's
+  // motion is smooth over a few tens of milliseconds. The refinements
+  // after it track every track_every-th as before. A scan whose start is
+  // refused again and again (a slow sweep that the platform follows: tank
+  // seed 103, eight refusals) spent most of its start's time on those
+  // screens. `uwscan reconstruct` screens at up to 40 Hz
+  // (ReconstructJob::start_screen_every; BENCHMARKS.md, "The refused
+  // starts screened at 36 Hz"). A first attempt is as before, and so is one
+  // after a refusal for poses that would not settle.
+  int start_screen_every = 0;
   // When set, features take their depth from the truth (SimulatorTruth), not
   // from the laser surface; the surface still decides when the map starts.
   std::shared_ptr<const SimulatorTruth> depth_oracle;
@@ -423,11 +436,13 @@ class SelfReferencedPoseProvider : public PoseProvider {
   // longer spanned the scene's plane (their surface had one before), or
   // settled on a plane through the camera.
   int init_refused_ = 0;
-  int init_refused_unsettled_ = 0;                       // of those, refinements that diverged
+  int init_refused_unsettled_ = 0;  // of those, refinements that diverged
+  int init_refused_narrow_ = 0;     // of those, profiles too narrow for the plane once tracked
   long tracks_cut_by_line_ = 0, tracks_reacquired_ = 0;  // thesis §5.5 track association
   long line_ranges_ = 0;  // range constraints where map points met the laser line
   // All windowed BAs, and those of the start's attempts among them.
   int bundle_adjustments_ = 0, bundle_adjustments_time_limited_ = 0, init_bundle_adjustments_ = 0;
+  int init_frames_tracked_ = 0;  // held frames tracked by the start's attempts, all of them
 };
 
 }  // namespace uwscan::fusion

@@ -77,20 +77,28 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
   init_settled_ = false;
   init_last_change_.reset();
   // Every track_every-th held frame is tracked here, as once running; the
-  // frames between are placed between the tracked ones around them.
+  // frames between are placed between the tracked ones around them. After
+  // an attempt refused because its tracked profiles were too narrow for the
+  // plane, the first tracking (a screen: do they span it now?) takes every
+  // start_screen_every-th only. (Not after a refusal for poses that would
+  // not settle: there the question is the poses.)
   const size_t every = static_cast<size_t>(options_.track_every);
+  const size_t screen_every = static_cast<size_t>(
+      options_.start_screen_every > 0 ? options_.start_screen_every : options_.track_every);
   std::vector<std::optional<Rigid3d>> previous_poses;
   std::vector<double> moved_m;  // each refinement's change after the first
   bool converging = true;
   for (int refinement = 0; refinement < max_refinements && held_.size() > 2; ++refinement) {
     if (refinement >= min_refinements && (init_settled_ || !converging)) break;
     size_t last_tracked = 0;
+    const size_t stride = init_refused_narrow_ > 0 && refinement == 0 ? screen_every : every;
     for (size_t i = 1; i < held_.size(); ++i) {
-      if (i % every != 0 && i + 1 < held_.size()) continue;
+      if (i % stride != 0 && i + 1 < held_.size()) continue;
       Held& h = held_[i];
       const vo::FrameResult result =
           odometry_->ProcessFrame(h.input.image, h.mask, h.input.timestamp_s);
       CountBundleAdjustment(result, /*at_start=*/true);
+      ++init_frames_tracked_;
       if (!result.world_from_camera) break;
       const Held& before = held_[last_tracked];
       const std::vector<StampedPose> ends = {
@@ -110,6 +118,7 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::TryInitialize() {
     for (size_t i = 0; i < held_.size(); ++i)
       refined->AddProfile(PoseGuess(i, origin), held_[i].profile);
     if (options_.surface.extrapolate_plane && !refined->HasDominantPlane()) {
+      ++init_refused_narrow_;
       RefuseStart();
       return {};
     }

@@ -41,6 +41,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   job.quiet = true;
   job.async_bundle_adjustment = options.async_bundle_adjustment;
   job.track_every = options.track_every;
+  job.start_screen_every = options.start_screen_every;
   if (options.line_window_px) job.line_window_px = *options.line_window_px;
   if (options.live) {
     job.live = true;
@@ -88,6 +89,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
   nlohmann::json json = report.ToJson();
   json["benchmark"] = "pipeline";
   json["track_every"] = report.track_every;
+  json["start_screen_every"] = report.start_screen_every;
   json["dataset"] = options.dataset.empty() ? "simulated tank-target" : options.dataset.string();
   json["simulation_s_not_timed"] = simulate_seconds;
   json["frames_per_second"] = report.frames / std::max(report.seconds, 1e-9);

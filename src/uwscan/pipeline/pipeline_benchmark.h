@@ -16,6 +16,7 @@ struct PipelineBenchmarkOptions {
   int height = 960;
   std::optional<bool> async_bundle_adjustment;  // as reconstruct --async-ba; unset: auto
   int track_every = 0;                          // as reconstruct --track-every (0: auto)
+  int start_screen_every = 0;                   // as reconstruct --start-screen-every (0: auto)
   std::optional<int> line_window_px;            // as reconstruct --line-window; unset: its default
   // Read the frame images once before the timed run, so that it times the
   // processing, not the disk (the read is timed apart); false: as they are.

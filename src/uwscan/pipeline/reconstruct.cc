@@ -230,6 +230,9 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     fusion::SelfReferencedOptions options = job.self_referenced;
     options.track_every = ResolveTrackEvery(job.track_every, frames);
     report.track_every = options.track_every;
+    options.start_screen_every =
+        ResolveStartScreenEvery(job.start_screen_every, options.track_every, frames);
+    report.start_screen_every = options.start_screen_every;
     options.smoothing_half_window = ResolveSmoothingHalfWindow(job.smoothing_half_window, frames);
     report.smoothing_half_window = options.smoothing_half_window;
     options.odometry.async_bundle_adjustment =

@@ -146,6 +146,15 @@ struct ReconstructJob {
   // time on two cores, BENCHMARKS.md), 1 at 100 Hz and below.
   int track_every = 0;
   static constexpr double kMaxTrackedRateHz = 100.0;
+  // Once a start attempt has been refused because its held profiles were
+  // too narrow for the plane, each later attempt's first tracking of the
+  // held frames takes every Nth only
+  // (SelfReferencedOptions::start_screen_every, which this sets). 0 (auto):
+  // the fewest N, and at least track_every, that keep that tracked rate at
+  // or below kMaxStartScreenRateHz: 4 at 144 Hz (36 Hz), 2 at 50 Hz
+  // (BENCHMARKS.md, "The refused starts screened at 36 Hz").
+  int start_screen_every = 0;
+  static constexpr double kMaxStartScreenRateHz = 40.0;
   // The odometry's windowed BA on a second thread
   // (vo::OdometryOptions::async_bundle_adjustment, which this sets); unset
   // (auto): when the frames come faster than vo::kAsyncBundleAdjustmentAboveHz,
@@ -282,7 +291,9 @@ struct ReconstructReport {
   // forced count.
   std::optional<bool> passes_settled;
   fusion::PoseChange passes_settled_within;
-  int track_every = 1;                   // the odometry's, as used (ReconstructJob::track_every)
+  int track_every = 1;  // the odometry's, as used (ReconstructJob::track_every)
+  // The refused starts' screens, as used (ReconstructJob::start_screen_every).
+  int start_screen_every = 1;
   bool async_bundle_adjustment = false;  // as used (ReconstructJob::async_bundle_adjustment)
   int smoothing_half_window = 0;         // as used (ReconstructJob::smoothing_half_window)
   double seconds_earlier_passes = 0.0;   // of the passes before the last (included in `seconds`)
@@ -330,14 +341,19 @@ struct ReconstructReport {
 // --poses-body-from-camera's value: "tx,ty,tz,qx,qy,qz,qw" (TUM's order),
 // a unit quaternion (to 1e-3; normalised); else a UsageError.
 Rigid3d ParseBodyFromCamera(const std::string& value);
-// --track-every's value: "auto" (0) or a count >= 1; else a UsageError.
-int ParseTrackEvery(const std::string& value);
+// --track-every's (or `flag`'s) value: "auto" (0) or a count >= 1; else a
+// UsageError that names the flag.
+int ParseTrackEvery(const std::string& value, const std::string& flag = "--track-every");
 // --contrast-scale's value: "auto" (unset) or a fraction in [0, 0.5]; else
 // a UsageError.
 std::optional<double> ParseContrastScale(const std::string& value);
 // ReconstructJob::track_every for these frames, auto resolved from their
 // timestamps.
 int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames);
+// ReconstructJob::start_screen_every for these frames, auto resolved from
+// their timestamps and the resolved track_every.
+int ResolveStartScreenEvery(int start_screen_every, int track_every,
+                            const std::vector<FrameRecord>& frames);
 // --smoothing-half-window's value: "auto" (unset) or a count >= 0; else a
 // UsageError.
 std::optional<int> ParseSmoothingHalfWindow(const std::string& value);

@@ -121,11 +121,11 @@ Rigid3d ParseBodyFromCamera(const std::string& value) {
   return Rigid3d(q.normalized(), Eigen::Vector3d(n[0], n[1], n[2]));
 }
 
-int ParseTrackEvery(const std::string& value) {
+int ParseTrackEvery(const std::string& value, const std::string& flag) {
   if (value == "auto") return 0;
   int count = 0;
   if (!ReadWhole(value, &count) || count < 1)
-    throw UsageError("--track-every must be auto or a count >= 1, got '" + value + "'");
+    throw UsageError(flag + " must be auto or a count >= 1, got '" + value + "'");
   return count;
 }
 
@@ -146,6 +146,17 @@ int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
   const double rate_hz = 1.0 / interval_s;
   return std::max(1,
                   static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxTrackedRateHz - 1e-9)));
+}
+
+int ResolveStartScreenEvery(int start_screen_every, int track_every,
+                            const std::vector<FrameRecord>& frames) {
+  if (start_screen_every > 0) return start_screen_every;
+  const double interval_s = MeanFrameInterval(frames);
+  if (!(interval_s > 0.0)) return track_every;
+  const double rate_hz = 1.0 / interval_s;
+  return std::max(
+      track_every,
+      static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxStartScreenRateHz - 1e-9)));
 }
 
 std::optional<int> ParseSmoothingHalfWindow(const std::string& value) {
@@ -572,6 +583,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"retried_start_last_change_mm", retried_start_change_mm},
       {"tracking_retry_failed", tracking_retry_failed},
       {"track_every", track_every},
+      {"start_screen_every", start_screen_every},
       {"smoothing_half_window", smoothing_half_window},
       {"line_window_px", line_window_px},
       {"frames_line_window_redone", frames_line_window_redone},

@@ -347,6 +347,22 @@ TEST(ReconstructTrackEvery, AutoFollowsTheFrameRate) {
   EXPECT_EQ(ParseTrackEvery("2"), 2);
   for (const char* bad : {"0", "-1", "2x", "", "two"})
     EXPECT_THROW(ParseTrackEvery(bad), UsageError) << bad;
+  // A refused start's screen: at most 40 held frames tracked per second,
+  // and at least every track_every-th; a count given is kept.
+  EXPECT_EQ(ResolveStartScreenEvery(0, 2, FramesAt(144.0, 50)), 4);
+  EXPECT_EQ(ResolveStartScreenEvery(0, 1, FramesAt(144.0, 50)), 4);
+  EXPECT_EQ(ResolveStartScreenEvery(0, 1, FramesAt(50.0, 50)), 2);
+  EXPECT_EQ(ResolveStartScreenEvery(0, 1, FramesAt(40.0, 50)), 1);
+  EXPECT_EQ(ResolveStartScreenEvery(0, 1, FramesAt(15.0, 50)), 1);
+  EXPECT_EQ(ResolveStartScreenEvery(0, 6, FramesAt(144.0, 50)), 6);
+  EXPECT_EQ(ResolveStartScreenEvery(0, 2, std::vector<FrameRecord>(5)), 2);
+  EXPECT_EQ(ResolveStartScreenEvery(2, 2, FramesAt(144.0, 50)), 2);
+  try {
+    ParseTrackEvery("0", "--start-screen-every");
+    ADD_FAILURE() << "0 accepted";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("--start-screen-every"), std::string::npos) << e.what();
+  }
   // The windowed BA goes to a second thread where frames are skipped.
   EXPECT_TRUE(ResolveAsyncBundleAdjustment(std::nullopt, FramesAt(144.0, 50)));
   EXPECT_FALSE(ResolveAsyncBundleAdjustment(std::nullopt, FramesAt(100.0, 50)));
