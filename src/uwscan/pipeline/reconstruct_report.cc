@@ -103,6 +103,15 @@ bool ReadWhole(const std::string& text, T* value) {
   return used == text.size() && !text.empty();
 }
 
+// The fewest N >= 1 that keep every Nth of the frames at or below
+// `max_rate_hz`, from their mean interval; `otherwise` with no time
+// between them.
+int FewestToKeepRate(const std::vector<FrameRecord>& frames, double max_rate_hz, int otherwise) {
+  const double interval_s = MeanFrameInterval(frames);
+  if (!(interval_s > 0.0)) return otherwise;  // fewer than two frames, or no time between them
+  return std::max(1, static_cast<int>(std::ceil(1.0 / interval_s / max_rate_hz - 1e-9)));
+}
+
 }  // namespace
 
 Rigid3d ParseBodyFromCamera(const std::string& value) {
@@ -141,22 +150,14 @@ std::optional<double> ParseContrastScale(const std::string& value) {
 
 int ResolveTrackEvery(int track_every, const std::vector<FrameRecord>& frames) {
   if (track_every > 0) return track_every;
-  const double interval_s = MeanFrameInterval(frames);
-  if (!(interval_s > 0.0)) return 1;  // fewer than two frames, or no time between them
-  const double rate_hz = 1.0 / interval_s;
-  return std::max(1,
-                  static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxTrackedRateHz - 1e-9)));
+  return FewestToKeepRate(frames, ReconstructJob::kMaxTrackedRateHz, 1);
 }
 
 int ResolveStartScreenEvery(int start_screen_every, int track_every,
                             const std::vector<FrameRecord>& frames) {
   if (start_screen_every > 0) return start_screen_every;
-  const double interval_s = MeanFrameInterval(frames);
-  if (!(interval_s > 0.0)) return track_every;
-  const double rate_hz = 1.0 / interval_s;
-  return std::max(
-      track_every,
-      static_cast<int>(std::ceil(rate_hz / ReconstructJob::kMaxStartScreenRateHz - 1e-9)));
+  return std::max(track_every,
+                  FewestToKeepRate(frames, ReconstructJob::kMaxStartScreenRateHz, track_every));
 }
 
 std::optional<int> ParseSmoothingHalfWindow(const std::string& value) {
