@@ -10,7 +10,6 @@
 #include "uwscan/laser/clipping.h"
 #include "uwscan/laser/profile.h"
 #include "uwscan/pipeline/reconstruct.h"
-#include "uwscan/util/error.h"
 #include "uwscan/util/json.h"
 #include "uwscan/util/statistics.h"
 
