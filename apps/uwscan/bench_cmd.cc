@@ -119,6 +119,8 @@ void RegisterBenchCommands(CLI::App& app) {
   pipeline->add_flag("--live", pipeline_options->live,
                      "deliver the frames at the camera's pace, as a live camera would, and "
                      "report how far the cloud falls behind it (live_lag_s); one pass");
+  pipeline->add_option("--live-max-lag", pipeline_options->live_max_lag_s,
+                       "as reconstruct --live-max-lag (with --live)");
   pipeline->callback(
       [pipeline_options, pipeline_dataset, pipeline_track_every, pipeline_start_screen_every] {
         pipeline_options->dataset = *pipeline_dataset;

@@ -208,6 +208,15 @@ void RegisterReconstructCommand(CLI::App& app) {
                 "diagnostics on simulated datasets: each feature track is moved in every frame "
                 "to where the simulator's true scene point at its first pixel projects (what the "
                 "odometry does with perfect tracks)");
+  cmd->add_flag("--live", job->live,
+                "replay the frames at the camera's pace, as a live camera delivers them, and "
+                "report how far the cloud fell behind it (report.json's live_lag_s); one pass, "
+                "no retry on half the image");
+  auto live_max_lag = std::make_shared<double>(0.0);
+  cmd->add_option("--live-max-lag", *live_max_lag,
+                  "with --live: drop frames whenever the processing falls more than this many "
+                  "seconds behind the camera, as a live system slower than its camera must "
+                  "(report.json's frames_dropped_live); by default none is dropped");
   cmd->add_flag("--quiet", job->quiet, "no progress bar or summary");
   cmd->callback([=] {
     job->dataset = *dataset;
@@ -228,7 +237,9 @@ void RegisterReconstructCommand(CLI::App& app) {
     if (*line_ranges) job->line_ranges = true;
     job->other_cameras = !*main_camera_only;
     const int count = passes->size() == 1 ? (*passes)[0] - '0' : -1;
-    if (*passes == "auto") {
+    if (job->live && *passes == "auto") {
+      job->passes = 1;  // processed once, as it comes
+    } else if (*passes == "auto") {
       job->passes = 0;
     } else if (count >= 1 && count <= ReconstructJob::kMaxPasses) {
       job->passes = count;
@@ -240,7 +251,8 @@ void RegisterReconstructCommand(CLI::App& app) {
     job->start_screen_every = ParseTrackEvery(*start_screen_every, "--start-screen-every");
     job->smoothing_half_window = ParseSmoothingHalfWindow(*smoothing_half_window);
     job->self_referenced.min_start_plane_view_cosine = StartPlaneViewCosine(*max_start_plane_angle);
-    job->retry_smaller_tracking = tracking_width->count() == 0;
+    job->retry_smaller_tracking = tracking_width->count() == 0 && !job->live;
+    if (cmd->count("--live-max-lag") > 0) job->live_max_lag_s = *live_max_lag;
     job->contrast_scale = ParseContrastScale(*contrast_scale);
     const ReconstructReport r = RunReconstruct(*job);
     if (!job->quiet) {
@@ -253,6 +265,16 @@ void RegisterReconstructCommand(CLI::App& app) {
                     (r.async_bundle_adjustment ? ", windowed BA on its own thread" : ""))
                        .c_str(),
                    r.seconds, r.RealTimeFactor(), out->c_str());
+      if (r.live_lag) {
+        std::fprintf(
+            stderr,
+            "reconstruct: live, the cloud %.2f s behind the camera at the end (at most "
+            "%.2f s, median %.2f s)%s\n",
+            r.live_lag->last_s, r.live_lag->max_s, r.live_lag->median_s,
+            r.frames_dropped_live > 0
+                ? (", " + std::to_string(r.frames_dropped_live) + " frames dropped").c_str()
+                : "");
+      }
       if (r.seconds > 1.0 && r.seconds_waiting_for_images > 0.25 * r.seconds) {
         std::fprintf(stderr,
                      "reconstruct: %.1f s of the %.1f s went waiting for the next image to be "

@@ -1,6 +1,8 @@
 #include "uwscan/pipeline/frame_reader.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <utility>
 
 #include "uwscan/util/error.h"
@@ -11,12 +13,16 @@ namespace uwscan {
 
 FrameReader::FrameReader(const std::vector<FrameRecord>& frames, LineStage* line_stage,
                          const fusion::PoseProvider* provider,
-                         std::optional<std::chrono::steady_clock::time_point> live_from)
+                         std::optional<std::chrono::steady_clock::time_point> live_from,
+                         std::optional<double> max_lag_s)
     : frames_(frames),
       line_stage_(line_stage),
       line_ahead_(!line_stage->NeedsPoses()),
       provider_(provider && provider->PreparesAhead() ? provider : nullptr),
-      live_from_(live_from) {
+      live_from_(live_from),
+      max_lag_s_(max_lag_s) {
+  UWS_CHECK(!max_lag_s || (live_from && *max_lag_s > 0.0),
+            "frame reader: a maximum lag needs a live replay and must be > 0");
   if (!frames_.empty()) worker_ = std::thread([this] { Work(); });
 }
 
@@ -45,14 +51,16 @@ ReadFrame FrameReader::Get(size_t i) {
   changed_.notify_all();
   if (entry.error) std::rethrow_exception(entry.error);  // a read error, named
   UWS_CHECK(entry.index == i, "frame reader: frame ", i, " asked for out of turn");
-  if (!line_ahead_) {
+  if (!line_ahead_ && !entry.frame.dropped) {
     line_stage_->Process(i, entry.frame.image, &entry.frame.detection, &entry.frame.profile);
   }
   return std::move(entry.frame);
 }
 
 void FrameReader::Work() {
+  int dropped_in_row = 0;
   for (size_t i = 0; i < frames_.size(); ++i) {
+    bool drop = false;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait(lock, [this] { return stop_ || ready_.size() < kAhead; });
@@ -62,12 +70,23 @@ void FrameReader::Work() {
         const auto due =
             *live_from_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(offset);
         changed_.wait_until(lock, due, [this] { return stop_; });
+        if (max_lag_s_ && i + 1 < frames_.size()) {
+          const double lag_s =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - due).count();
+          drop =
+              lag_s > *max_lag_s_ &&
+              dropped_in_row < std::min<double>(kMaxDroppedInRow, std::floor(lag_s / *max_lag_s_));
+        }
       }
       if (stop_) return;
     }
+    dropped_in_row = drop ? dropped_in_row + 1 : 0;
     Entry entry{i, {}, nullptr};
     try {
-      entry.frame = Read(i);
+      if (drop)
+        entry.frame.dropped = true;
+      else
+        entry.frame = Read(i);
     } catch (...) {
       entry.error = std::current_exception();
     }

@@ -27,6 +27,9 @@ struct ReadFrame {
   laser::Detection detection;
   laser::Profile profile;
   std::optional<fusion::PreparedFrame> prepared;
+  // Left out of a live run that fell behind (FrameReader's max_lag_s):
+  // not read, nothing else set.
+  bool dropped = false;
 };
 
 // Reads (and decodes) the frames on a second thread, up to kAhead frames
@@ -49,19 +52,32 @@ class FrameReader {
   // With `live_from`, no frame is read before a live camera started then
   // would have delivered it: the first at once, each later one its
   // timestamp's offset from the first's later (ReconstructJob::live).
+  // With `max_lag_s` too, a frame the reader comes to more than that after
+  // its delivery is dropped (ReadFrame::dropped), as a live system drops
+  // the frames it cannot keep up with; never the last. Up to lag/max_lag
+  // frames in a row and never more than kMaxDroppedInRow, then one read:
+  // the further behind, the thinner the frames, and never a long gap for
+  // the tracking to bridge (on the full tank scans, gaps of up to 15 frames
+  // at 144 Hz while the start's lag was caught up put the trajectory 3 mm
+  // off, ATE, against 0.7 mm with at most 3; BENCHMARKS.md, "Live: frames
+  // dropped to keep up"). A machine more than four times slower than its
+  // camera falls behind all the same.
   FrameReader(const std::vector<FrameRecord>& frames, LineStage* line_stage,
               const fusion::PoseProvider* provider,
-              std::optional<std::chrono::steady_clock::time_point> live_from = std::nullopt);
+              std::optional<std::chrono::steady_clock::time_point> live_from = std::nullopt,
+              std::optional<double> max_lag_s = std::nullopt);
   ~FrameReader();
   FrameReader(const FrameReader&) = delete;
   FrameReader& operator=(const FrameReader&) = delete;
-  // Frame i with its line; the calls must ask for 0, 1, 2, ... in turn.
+  // Frame i with its line (or dropped); the calls must ask for 0, 1, 2, ...
+  // in turn.
   ReadFrame Get(size_t i);
   // Time Get spent waiting for the reading thread.
   double seconds_waiting() const { return seconds_waiting_; }
 
  private:
   static constexpr size_t kAhead = 8;
+  static constexpr int kMaxDroppedInRow = 3;
   struct Entry {
     size_t index = 0;
     ReadFrame frame;
@@ -74,6 +90,7 @@ class FrameReader {
   const bool line_ahead_;                 // found on the reading thread
   const fusion::PoseProvider* provider_;  // if it prepares frames ahead
   const std::optional<std::chrono::steady_clock::time_point> live_from_;
+  const std::optional<double> max_lag_s_;
   double seconds_waiting_ = 0.0;  // caller's thread only
   std::mutex mutex_;
   std::condition_variable changed_;

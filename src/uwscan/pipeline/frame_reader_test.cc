@@ -2,11 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -79,6 +81,63 @@ TEST(FrameReader, ALiveReplayDeliversEachFrameAtItsTime) {
   const std::vector<double> ahead =
       DeliveryTimes(frames, scan.stage.get(), std::chrono::steady_clock::now(), false);
   EXPECT_LT(ahead.back(), step_s * (frames.size() - 1));
+}
+
+// A consumer slower than the camera: how far behind it each frame was
+// taken (seconds from its delivery), or -1 where the reader dropped it.
+std::vector<double> SlowConsumerLags(const std::vector<FrameRecord>& frames, LineStage* stage,
+                                     double work_s, std::optional<double> max_lag_s) {
+  const auto from = std::chrono::steady_clock::now();
+  FrameReader reader(frames, stage, nullptr, from, max_lag_s);
+  std::vector<double> lags;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const ReadFrame frame = reader.Get(i);
+    if (frame.dropped) {
+      EXPECT_TRUE(frame.image.empty()) << "frame " << i;
+      lags.push_back(-1.0);
+      continue;
+    }
+    EXPECT_FALSE(frame.image.empty()) << "frame " << i;
+    lags.push_back(SecondsSince(from) - (frames[i].timestamp_s - frames.front().timestamp_s));
+    std::this_thread::sleep_for(std::chrono::duration<double>(work_s));
+  }
+  return lags;
+}
+
+// A live replay with a maximum lag drops frames when the processing falls
+// behind, as a live system slower than its camera must: here each frame
+// takes three of the camera's intervals, so without drops the last frame is
+// taken about 1 s late; with them no frame is taken later than the
+// maximum plus the frames the reader holds ahead (kAhead = 8) and the
+// one in hand, the first and the last are never dropped, and no more than
+// three frames are dropped in a row (the frames thin out, no long gap).
+TEST(FrameReader, ALiveReplayThatFallsBehindDropsFrames) {
+  const double step_s = 0.01, work_s = 0.03, max_lag_s = 0.05;
+  RetimedScan scan("frame_reader_drops", 50, [&](std::vector<FrameRecord>* frames) {
+    for (size_t i = 0; i < frames->size(); ++i) (*frames)[i].timestamp_s = 7.0 + step_s * i;
+  });
+  ASSERT_EQ(scan.frames.size(), 50u);
+  const std::vector<double> kept =
+      SlowConsumerLags(scan.frames, scan.stage.get(), work_s, max_lag_s);
+  const long dropped = std::count(kept.begin(), kept.end(), -1.0);
+  EXPECT_GT(dropped, 10);
+  EXPECT_GE(kept.front(), 0.0);
+  EXPECT_GE(kept.back(), 0.0);
+  const double slack_s = 0.15;  // a busy test machine's sleeps and wake-ups
+  for (size_t i = 0; i < kept.size(); ++i)
+    EXPECT_LT(kept[i], max_lag_s + 9 * work_s + slack_s) << "frame " << i;
+  int run = 0, longest_run = 0;
+  for (double lag : kept) {
+    run = lag < 0 ? run + 1 : 0;
+    longest_run = std::max(longest_run, run);
+  }
+  EXPECT_LE(longest_run, 3);
+  EXPECT_GE(longest_run, 2);  // as far behind as it is, more than every other one
+
+  const std::vector<double> all =
+      SlowConsumerLags(scan.frames, scan.stage.get(), work_s, std::nullopt);
+  EXPECT_EQ(std::count(all.begin(), all.end(), -1.0), 0);
+  EXPECT_GT(all.back(), 0.8);  // 50 x 30 ms of work for 0.49 s of frames
 }
 
 // Ctrl-C while a live replay waits for a frame (here 5 s away, a gap in

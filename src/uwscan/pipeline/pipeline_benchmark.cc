@@ -48,6 +48,7 @@ nlohmann::json RunPipelineBenchmark(const PipelineBenchmarkOptions& options) {
     job.passes = 1;
     job.retry_smaller_tracking = false;
   }
+  job.live_max_lag_s = options.live_max_lag_s;
   job.Check();  // before the (long) simulation
   double simulate_seconds = 0.0;
   if (job.dataset.empty()) {

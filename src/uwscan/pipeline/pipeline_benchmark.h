@@ -26,6 +26,7 @@ struct PipelineBenchmarkOptions {
   // real-time factor then stays at or below 1 by construction, and the lag
   // tells whether the processing keeps up. One pass, no retry.
   bool live = false;
+  std::optional<double> live_max_lag_s;  // as ReconstructJob::live_max_lag_s
   void Check() const;
 };
 

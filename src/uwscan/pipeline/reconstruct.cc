@@ -348,10 +348,18 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
       pending.erase(pending.begin(), std::next(it));  // earlier frames will not get a pose now
     }
   };
-  FrameReader reader(frames, &line_stage, provider.get(), live_from);
+  FrameReader reader(frames, &line_stage, provider.get(), live_from,
+                     live_from ? job.live_max_lag_s : std::nullopt);
+  if (job.live_max_lag_s) report.live_max_lag_s = *job.live_max_lag_s;
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     ReadFrame frame = reader.Get(i);
+    if (frame.dropped) {  // the live run fell behind
+      ++report.frames_dropped_live;
+      progress.Update(++frames_done);
+      ThrowIfInterrupted();
+      continue;
+    }
     const cv::Mat& image = frame.image;
     laser::Detection& detection = frame.detection;
     laser::Profile& profile = frame.profile;

@@ -181,6 +181,11 @@ struct ReconstructJob {
   // scan is processed once: it needs one pass and no retry on half the
   // image.
   bool live = false;
+  // A live run that falls further than this behind the camera drops
+  // frames to catch up, as a live system on a machine slower than its
+  // camera must (FrameReader's max_lag_s; ReconstructReport::
+  // frames_dropped_live); unset: every frame processed, however late.
+  std::optional<double> live_max_lag_s;
   void Check() const;
 };
 
@@ -306,7 +311,11 @@ struct ReconstructReport {
   std::string tracking_retry_failed;
   double sequence_duration_s = 0.0;  // from the frame timestamps
   std::optional<LiveLag> live_lag;   // ReconstructJob::live only
-  FrameGaps frame_gaps;              // frames the camera or its recorder dropped (frames.csv)
+  // Frames a live run dropped to keep within ReconstructJob::live_max_lag_s
+  // of the camera (not counted in `frames`), and that limit; -1 unset.
+  int frames_dropped_live = 0;
+  double live_max_lag_s = -1.0;
+  FrameGaps frame_gaps;  // frames the camera or its recorder dropped (frames.csv)
   std::string pose_source;
   // --poses: the file's poses' median step (s) and how many lie within the
   // frames' times; -1 without such a file.

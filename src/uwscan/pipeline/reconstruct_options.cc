@@ -61,6 +61,9 @@ void ReconstructJob::Check() const {
     throw UsageError(
         "a live run is processed once: it needs --passes 1 and no retry on half the image");
   }
+  if (live_max_lag_s && !live) throw UsageError("--live-max-lag needs a live run (--live)");
+  if (live_max_lag_s && !(*live_max_lag_s > 0.0 && std::isfinite(*live_max_lag_s)))
+    throw UsageError(fmt::format("--live-max-lag must be > 0 s, got {}", *live_max_lag_s));
   if (!(passes_settled_m > 0.0) || !(passes_settled_deg > 0.0) ||
       !(passes_converging_ratio > 0.0 && passes_converging_ratio <= 1.0)) {
     throw UsageError("the passes' tolerances must be > 0 and their converging ratio in (0, 1]");

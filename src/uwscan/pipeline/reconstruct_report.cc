@@ -83,6 +83,14 @@ std::vector<std::string> ReconstructReport::Warnings() const {
         "may lose the tracks)",
         frame_gaps.missing, frame_gaps.gaps, 1e3 * frame_gaps.longest_s));
   }
+  if (frames_dropped_live > 0) {
+    warnings.push_back(fmt::format(
+        "{} frame(s) ({} %) dropped to keep the live cloud within {:g} s of the camera: this "
+        "machine processes the scan slower than the camera takes it; the cloud has no profiles "
+        "there and the odometry tracks across each drop",
+        frames_dropped_live, percent(frames_dropped_live, frames + frames_dropped_live),
+        live_max_lag_s));
+  }
   long main_points = points;  // the main camera's, placed: of frames with a pose
   for (const auto& camera : other_cameras) main_points -= camera.points;
   const int placed_frames = frames_with_line - frames_without_pose;
@@ -409,6 +417,8 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"frames_line_window_redone", frames_line_window_redone},
       {"async_bundle_adjustment", async_bundle_adjustment},
       {"live_lag_s", live_lag ? live_lag->ToJson() : nlohmann::json()},
+      {"live_max_lag_s", live_max_lag_s > 0 ? nlohmann::json(live_max_lag_s) : nlohmann::json()},
+      {"frames_dropped_live", frames_dropped_live},
       {"sequence_duration_s", sequence_duration_s},
       {"frames_missing", frame_gaps.missing},
       {"frame_gaps", frame_gaps.gaps},

@@ -1,5 +1,6 @@
 #include "uwscan/pipeline/reconstruct.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -180,6 +181,69 @@ TEST_F(ReconstructTest, DroppedFramesAreCountedAndSaid) {
   for (const auto& warning : json["warnings"])
     said = said || warning.get<std::string>().find("3 frame(s) missing") != std::string::npos;
   EXPECT_TRUE(said) << json["warnings"].dump();
+}
+
+// A live run on a machine slower than its camera (here the scan's clock
+// run ten times fast: 1440 frames a second) drops frames to keep within
+// the maximum lag: they are counted apart from the frames processed and
+// said, the last frame is processed, and the frames kept are placed as
+// exactly as ever (the true poses here, so that only the drops differ).
+TEST_F(ReconstructTest, ALiveRunThatFallsBehindDropsFramesAndSaysSo) {
+  const fs::path dataset = root_ / "fast_clock";
+  fs::copy(root_ / "data", dataset, fs::copy_options::recursive);
+  const double speed_up = 10.0;
+  std::vector<StampedPose> truth = ReadTum(dataset / "groundtruth.tum");
+  const double t0 = ReadFramesCsv(dataset / "frames.csv").front().timestamp_s;
+  for (StampedPose& pose : truth) pose.timestamp_s = t0 + (pose.timestamp_s - t0) / speed_up;
+  WriteTum(dataset / "groundtruth.tum", truth);
+  {
+    std::ifstream in(root_ / "data" / "frames.csv");
+    std::ofstream out(dataset / "frames.csv");
+    std::string line;
+    std::getline(in, line);
+    out << line << "\n";  // the header
+    while (std::getline(in, line)) {
+      const size_t a = line.find(','), b = line.find(',', a + 1);
+      const double t = std::stod(line.substr(a + 1, b - a - 1));
+      out << line.substr(0, a + 1) << fmt::format("{:.9f}", t0 + (t - t0) / speed_up)
+          << line.substr(b) << "\n";
+    }
+  }
+  ReconstructJob job;
+  job.dataset = dataset;
+  job.out = root_ / "out_fast_clock";
+  job.poses_file = dataset / "groundtruth.tum";
+  job.quiet = true;
+  job.live = true;
+  job.passes = 1;
+  job.retry_smaller_tracking = false;
+  job.live_max_lag_s = 0.002;  // three of this clock's frames
+  const ReconstructReport report = RunReconstruct(job);
+  EXPECT_GT(report.frames_dropped_live, 0);
+  EXPECT_EQ(report.frames + report.frames_dropped_live, 24);
+  EXPECT_EQ(report.frames_without_pose, 0);
+  EXPECT_GT(report.points, report.frames * 120);
+  const auto placed = ReadTum(job.out / "trajectory.tum");
+  ASSERT_EQ(placed.size(), static_cast<size_t>(report.frames));
+  EXPECT_NEAR(placed.back().timestamp_s, truth.back().timestamp_s, 1e-6);  // the last kept
+  const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
+  EXPECT_EQ(json["frames_dropped_live"], report.frames_dropped_live);
+  EXPECT_EQ(json["live_max_lag_s"], 0.002);
+  bool said = false;
+  for (const auto& warning : json["warnings"])
+    said = said || warning.get<std::string>().find(
+                       "dropped to keep the live cloud within 0.002 s") != std::string::npos;
+  EXPECT_TRUE(said) << json["warnings"].dump();
+  const auto evaluation = EvaluateReconstruction(job.dataset, job.out);
+  EXPECT_GT(evaluation.compensated.matched, report.points * 95 / 100);
+  EXPECT_LT(evaluation.compensated.point_error_rms_m, 0.002);
+
+  // A maximum lag needs a live run, and a positive one.
+  job.live = false;
+  EXPECT_THROW(job.Check(), UsageError);
+  job.live = true;
+  job.live_max_lag_s = 0.0;
+  EXPECT_THROW(job.Check(), UsageError);
 }
 
 // Each frame's line searched only near the frame before's (the default,
