@@ -57,6 +57,12 @@ ReadFrame FrameReader::Get(size_t i) {
   return std::move(entry.frame);
 }
 
+namespace {
+
+bool IsLaserOff(const FrameRecord& frame) { return frame.laser_on && !*frame.laser_on; }
+
+}  // namespace
+
 void FrameReader::Work() {
   int dropped_in_row = 0;
   for (size_t i = 0; i < frames_.size(); ++i) {
@@ -80,6 +86,11 @@ void FrameReader::Work() {
       }
       if (stop_) return;
     }
+    // Interleaved scans: a laser-on frame's line is found against the
+    // laser-off frame before it (LineStage), so the two go together.
+    if (dropped_in_row > 0 && i + 1 < frames_.size() && IsLaserOff(frames_[i - 1]) &&
+        frames_[i].laser_on.value_or(false))
+      drop = true;
     dropped_in_row = drop ? dropped_in_row + 1 : 0;
     Entry entry{i, {}, nullptr};
     try {

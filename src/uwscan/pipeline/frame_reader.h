@@ -61,7 +61,9 @@ class FrameReader {
   // at 144 Hz while the start's lag was caught up put the trajectory 3 mm
   // off, ATE, against 0.7 mm with at most 3; BENCHMARKS.md, "Live: frames
   // dropped to keep up"). A machine more than four times slower than its
-  // camera falls behind all the same.
+  // camera falls behind all the same. In an interleaved scan a laser-on
+  // frame goes with the laser-off frame before it: dropped with it, since
+  // its line is found against it (LineStage).
   FrameReader(const std::vector<FrameRecord>& frames, LineStage* line_stage,
               const fusion::PoseProvider* provider,
               std::optional<std::chrono::steady_clock::time_point> live_from = std::nullopt,

@@ -140,6 +140,25 @@ TEST(FrameReader, ALiveReplayThatFallsBehindDropsFrames) {
   EXPECT_GT(all.back(), 0.8);  // 50 x 30 ms of work for 0.49 s of frames
 }
 
+// In an interleaved scan (frames.csv laser_on) a laser-on frame is kept
+// only with the laser-off frame before it, against which its line is found.
+TEST(FrameReader, ALiveReplayDropsAnInterleavedScansFramesInPairs) {
+  RetimedScan scan("frame_reader_pairs", 50, [](std::vector<FrameRecord>* frames) {
+    for (size_t i = 0; i < frames->size(); ++i) {
+      (*frames)[i].timestamp_s = 7.0 + 0.01 * i;
+      (*frames)[i].laser_on = i % 2 == 1;
+    }
+  });
+  ASSERT_EQ(scan.frames.size(), 50u);
+  const std::vector<double> kept = SlowConsumerLags(scan.frames, scan.stage.get(), 0.03, 0.05);
+  EXPECT_GT(std::count(kept.begin(), kept.end(), -1.0), 10);
+  for (size_t i = 1; i + 1 < kept.size(); i += 2) {
+    if (kept[i] >= 0) {
+      EXPECT_GE(kept[i - 1], 0.0) << "laser-on frame " << i;
+    }
+  }
+}
+
 // Ctrl-C while a live replay waits for a frame (here 5 s away, a gap in
 // the recording) stops the wait at once, as it stops a scan between frames.
 TEST(FrameReader, CtrlCStopsALiveReplaysWait) {
