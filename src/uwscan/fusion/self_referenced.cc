@@ -132,13 +132,23 @@ cv::Mat SelfReferencedPoseProvider::TrackedLineMask(const cv::Mat& line_mask,
 
 PreparedFrame SelfReferencedPoseProvider::PrepareAhead(const FrameInput& frame) const {
   UWS_CHECK(!frame.image.empty(), "frame ", frame.index, ": empty image");
-  const int next = next_tracked_index_.load(std::memory_order_relaxed);
+  const int last = last_tracked_index_.load(std::memory_order_relaxed);
   const int every = options_.track_every;
   const cv::Mat* line_mask = frame.detection ? &frame.detection->mask : nullptr;
+  ahead_seen_.push_back(frame.index);
+  if (ahead_seen_.size() > kAheadSeen) ahead_seen_.pop_front();
+  // The frames given since the last tracked one, this one included (Add
+  // tracks every track_every-th it is given): counted where the last
+  // tracked one is still among those remembered, else by index.
+  int since = frame.index - last;
+  if (last >= 0 && ahead_seen_.front() <= last) {
+    since = static_cast<int>(
+        std::count_if(ahead_seen_.begin(), ahead_seen_.end(), [&](int i) { return i > last; }));
+  }
   // Held frames are tracked one by one; the frames kept for a mean are
   // those since the last one prepared for tracking.
-  if (!Averaging() || next < 0) ahead_frames_.clear();
-  if (every > 1 && next >= 0 && ((frame.index - next) % every + every) % every != 0) {
+  if (!Averaging() || last < 0) ahead_frames_.clear();
+  if (every > 1 && last >= 0 && (since % every + every) % every != 0) {
     if (Averaging()) {
       if (static_cast<int>(ahead_frames_.size()) + 1 >= every)
         ahead_frames_.erase(ahead_frames_.begin());
@@ -198,6 +208,7 @@ SelfReferencedPoseProvider::Held SelfReferencedPoseProvider::Prepare(const Frame
             : TrackedLineMask(MaskUnion(masks), {tracking_camera_.width, tracking_camera_.height});
   } else {
     // Not made ahead (the reading thread guessed another frame to track).
+    ++prepared_late_;
     PreparedFrame prepared = MakePrepared(raws, masks, bayer_offset_, tracking_camera_);
     held.input.image = std::move(prepared.image);
     held.mask = std::move(prepared.mask);
@@ -210,9 +221,9 @@ std::vector<PoseUpdate> SelfReferencedPoseProvider::Add(const FrameInput& frame)
   std::vector<PoseUpdate> updates = AddFrame(frame);
   // Running with no frame skipped since: this one was tracked.
   if (!running_) {
-    next_tracked_index_.store(-1, std::memory_order_relaxed);
+    last_tracked_index_.store(-1, std::memory_order_relaxed);
   } else if (skipped_.empty()) {
-    next_tracked_index_.store(frame.index + options_.track_every, std::memory_order_relaxed);
+    last_tracked_index_.store(frame.index, std::memory_order_relaxed);
   }
   return updates;
 }
@@ -450,6 +461,7 @@ nlohmann::json SelfReferencedPoseProvider::Details() const {
           {"tracked", tracked_},
           {"interpolated_between_tracked", interpolated_},
           {"tracked_images_averaged", averaged_},
+          {"tracked_images_made_late", prepared_late_},
           {"lost", lost_},
           {"reinitialisations", reinitialisations_},
           {"frames_without_pose_at_start", dropped_},

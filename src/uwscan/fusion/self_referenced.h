@@ -219,11 +219,13 @@ class SelfReferencedPoseProvider : public PoseProvider {
   int FirstFrameWithPose() const { return init_frame_; }
   std::vector<PoseUpdate> Preliminary() const override { return preliminary_; }
   // The tracked image and dilated line mask (thread-safe: reads what the
-  // constructor set and next_tracked_index_). With track_every > 1 only for
+  // constructor set and last_tracked_index_). With track_every > 1 only for
   // the frames Add is expected to track (those it holds at the start: all;
-  // once running: every track_every-th index after the last tracked one),
-  // the others get an empty PreparedFrame: preparing all would make the
-  // reading thread the slower one. A frame guessed wrong is prepared in Add.
+  // once running: every track_every-th frame given to PrepareAhead after
+  // the last tracked one, so that frames a live run dropped before both
+  // count for neither), the others get an empty PreparedFrame: preparing
+  // all would make the reading thread the slower one. A frame guessed wrong
+  // is prepared in Add (Details: tracked_images_made_late).
   bool PreparesAhead() const override { return true; }
   PreparedFrame PrepareAhead(const FrameInput& frame) const override;
   // The camera of the image PrepareAhead makes from this stored frame.
@@ -411,19 +413,26 @@ class SelfReferencedPoseProvider : public PoseProvider {
     bool has_mask = false;
   };
   mutable std::vector<AheadFrame> ahead_frames_;
+  // The indices of the last frames PrepareAhead was given (that thread's
+  // only), to count those since the last tracked one.
+  mutable std::deque<int> ahead_seen_;
+  static constexpr size_t kAheadSeen = 64;
   std::unique_ptr<vo::Odometry> guess_odometry_;
   int guess_frames_ = 0;
   bool guess_failed_ = false;
   bool running_ = false;
-  // The index of the frame Add will track next once running (-1: every
-  // frame is taken, held at the start), for PrepareAhead on another thread.
-  std::atomic<int> next_tracked_index_{-1};
+  // The index of the frame Add tracked last once running (-1: every frame
+  // is taken, held at the start), for PrepareAhead on another thread.
+  std::atomic<int> last_tracked_index_{-1};
   std::optional<Rigid3d> last_pose_;
   double last_time_s_ = 0.0;
   int implausible_ = 0;
   // Statistics.
   int interpolated_ = 0;  // frames placed between tracked ones
   int averaged_ = 0;      // tracked images that were the mean of several frames
+  // Tracked images made on the caller's thread: the reading thread had
+  // guessed another frame to track (PrepareAhead), or made none.
+  mutable int prepared_late_ = 0;
   int frames_ = 0, tracked_ = 0, lost_ = 0, reinitialisations_ = 0, dropped_ = 0, keyframes_ = 0;
   int init_frame_ = -1;
   // The start's refinements (init_refinements), whether its poses settled,
