@@ -21,6 +21,7 @@ struct FrameRecord {
   // Lasers switched on in this frame; unset = always on. Interleaved scans
   // (thesis §5.4/5.5) alternate on and off frames.
   std::optional<bool> laser_on;
+  bool LaserOff() const { return laser_on && !*laser_on; }
 };
 
 // File name of frame `index` inside the dataset: frames/000123.png.

@@ -57,12 +57,6 @@ ReadFrame FrameReader::Get(size_t i) {
   return std::move(entry.frame);
 }
 
-namespace {
-
-bool IsLaserOff(const FrameRecord& frame) { return frame.laser_on && !*frame.laser_on; }
-
-}  // namespace
-
 void FrameReader::Work() {
   int dropped_in_row = 0;
   for (size_t i = 0; i < frames_.size(); ++i) {
@@ -88,7 +82,7 @@ void FrameReader::Work() {
     }
     // Interleaved scans: a laser-on frame's line is found against the
     // laser-off frame before it (LineStage), so the two go together.
-    if (dropped_in_row > 0 && i + 1 < frames_.size() && IsLaserOff(frames_[i - 1]) &&
+    if (dropped_in_row > 0 && i + 1 < frames_.size() && frames_[i - 1].LaserOff() &&
         frames_[i].laser_on.value_or(false))
       drop = true;
     dropped_in_row = drop ? dropped_in_row + 1 : 0;

@@ -137,7 +137,7 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
       images.push_back(job.dataset_dir / record.file);
       indices.push_back(record.index);
       angles.push_back(record.laser_angle_rad.value_or(0.0));
-      laser_off.push_back(!record.laser_on.value_or(true));
+      laser_off.push_back(record.LaserOff());
     }
   } else {
     images = ListImageFiles(job.images_dir);

@@ -96,7 +96,7 @@ void LineStage::Process(size_t i, const cv::Mat& image, laser::Detection* detect
   // with the laser off; with it on, the line is found in the difference to
   // the previous (laser-off) frame, where the scene's own texture, a
   // painted stripe or the ambient light cancel.
-  const bool laser_off = record.laser_on && !*record.laser_on;
+  const bool laser_off = record.LaserOff();
   const bool difference = job_.detect_on_difference && record.laser_on && !laser_off;
   *detection = {};
   if (difference && (i == 0 || dark_image_.empty() || dark_frame_ != i - 1)) {

@@ -1,6 +1,5 @@
 #include "uwscan/pipeline/reconstruct.h"
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -197,17 +196,12 @@ TEST_F(ReconstructTest, ALiveRunThatFallsBehindDropsFramesAndSaysSo) {
   for (StampedPose& pose : truth) pose.timestamp_s = t0 + (pose.timestamp_s - t0) / speed_up;
   WriteTum(dataset / "groundtruth.tum", truth);
   {
-    std::ifstream in(root_ / "data" / "frames.csv");
-    std::ofstream out(dataset / "frames.csv");
-    std::string line;
-    std::getline(in, line);
-    out << line << "\n";  // the header
-    while (std::getline(in, line)) {
-      const size_t a = line.find(','), b = line.find(',', a + 1);
-      const double t = std::stod(line.substr(a + 1, b - a - 1));
-      out << line.substr(0, a + 1) << fmt::format("{:.9f}", t0 + (t - t0) / speed_up)
-          << line.substr(b) << "\n";
+    FramesCsvWriter out(dataset / "frames.csv", /*with_laser_angle=*/true);
+    for (FrameRecord record : ReadFramesCsv(root_ / "data" / "frames.csv")) {
+      record.timestamp_s = t0 + (record.timestamp_s - t0) / speed_up;
+      out.Add(record);
     }
+    out.Commit();
   }
   ReconstructJob job;
   job.dataset = dataset;
