@@ -275,7 +275,8 @@ void RegisterReconstructCommand(CLI::App& app) {
                 ? (", " + std::to_string(r.frames_dropped_live) + " frames dropped").c_str()
                 : "");
       }
-      if (r.seconds > 1.0 && r.seconds_waiting_for_images > 0.25 * r.seconds) {
+      // (A live run waits for the camera's frames by design.)
+      if (!r.live_lag && r.seconds > 1.0 && r.seconds_waiting_for_images > 0.25 * r.seconds) {
         std::fprintf(stderr,
                      "reconstruct: %.1f s of the %.1f s went waiting for the next image to be "
                      "read and decoded: a disk slower than the processing shows here\n",

@@ -195,6 +195,17 @@ grep -q "warning: .*ms.tum's poses are 6.94 s apart (median), and the frames' 0.
   "$work/err" || fail "--poses in milliseconds: $(cat "$work/err")"
 grep -q '"external_pose_step_s": 6.94' "$work/ms.out/report.json" || fail "ms: report.json"
 
+# Replayed live (--live), the run waits for the camera's frames: its summary gives the cloud's lag
+# behind the camera and does not blame a disk for the wait. (The clock slowed 100x: 1.4 s.)
+mkdir "$work/slow" && cp -r "$work/ds/." "$work/slow/"
+awk -F, -v OFS=, 'NR > 1 { $2 = $2 * 100 } { print }' "$work/ds/frames.csv" >"$work/slow/frames.csv"
+awk '!/^#/ { $1 = $1 * 100 } { print }' "$work/ds/groundtruth.tum" >"$work/slow/groundtruth.tum"
+expect_status 0 "reconstruct --live" "$uwscan" reconstruct --dataset "$work/slow" \
+  --out "$work/slow.out" --poses "$work/slow/groundtruth.tum" --live
+grep -q "^reconstruct: live, the cloud [0-9.]* s behind the camera at the end" "$work/err" ||
+  fail "--live: no lag in the summary: $(cat "$work/err")"
+! grep -q "disk" "$work/err" || fail "--live: the camera's pace blamed on a disk: $(cat "$work/err")"
+
 # Outputs onto the dataset's own files are usage errors, the files untouched.
 truth_sum=$(cksum <"$work/ds/groundtruth.tum")
 expect_status 2 "vo --out onto the ground truth" "$uwscan" vo --dataset "$work/ds" \

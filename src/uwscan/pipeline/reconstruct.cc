@@ -385,9 +385,14 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   place(provider->Finish());
   report.seconds_waiting_for_images += reader.seconds_waiting();
   report.seconds_io += reader.seconds_waiting();
-  if (self_referenced && measured) {
-    measured->surface = placed_surface ? placed_surface : self_referenced->MeasuredSurface();
-    measured->first_frame = self_referenced->FirstFrameWithPose();
+  if (self_referenced) {
+    const std::shared_ptr<const fusion::SurfaceModel> surface =
+        placed_surface ? placed_surface : self_referenced->MeasuredSurface();
+    report.surface_in_front = surface && surface->HasFrontSurface();
+    if (measured) {
+      measured->surface = surface;
+      measured->first_frame = self_referenced->FirstFrameWithPose();
+    }
   }
   report.frames_without_pose = report.frames - frames_placed;
   if (live_from) report.live_lag = SummarizeLiveLag(live_lags, report.sequence_duration_s);

@@ -296,6 +296,12 @@ struct ReconstructReport {
   // forced count.
   std::optional<bool> passes_settled;
   fusion::PoseChange passes_settled_within;
+  // The self-referenced odometry's surface had one standing in front of the
+  // scene's main one (a shaft before a hull; SurfaceModel::HasFrontSurface),
+  // whose features it had to give the main one's depth until the laser
+  // reached it: what auto passes run again for (warned of when one pass
+  // ran: --live, --passes 1).
+  bool surface_in_front = false;
   int track_every = 1;  // the odometry's, as used (ReconstructJob::track_every)
   // The refused starts' screens, as used (ReconstructJob::start_screen_every).
   int start_screen_every = 1;

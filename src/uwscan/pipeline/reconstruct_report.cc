@@ -234,6 +234,17 @@ std::vector<std::string> ReconstructReport::Warnings() const {
         passes, 1e3 * pass_changes.back().moved_m, pass_changes.back().turned_deg,
         1e3 * passes_settled_within.moved_m, passes_settled_within.turned_deg));
   }
+  if (surface_in_front && passes == 1) {
+    // One pass on a hull with a shaft in front: the shaft's features had
+    // the hull's depth until the laser reached the shaft (BENCHMARKS.md,
+    // "A live run in front of a hull").
+    warnings.push_back(
+        "the scene has a surface standing in front of its main one (a shaft before a hull): "
+        "in one pass (--live, --passes 1) the odometry gave that surface's features the main "
+        "one's depth until the laser reached it, so the trajectory and the surface in front may "
+        "be off by centimetres; offline, uwscan reconstruct without --live runs the odometry "
+        "again on the surface measured over the whole scan (--passes auto)");
+  }
   if (const std::optional<UnsettledStart> start = FindUnsettledStart(pose_details)) {
     // Far from settled, the held frames' tracks do not hold the scene still
     // (faint, noisy features), and every later pose rests on that start: in
@@ -407,6 +418,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"pass_changes_mm", pass_moves_mm},
       {"pass_changes_deg", pass_turns_deg},
       {"passes_settled", passes_settled ? nlohmann::json(*passes_settled) : nlohmann::json()},
+      {"surface_in_front", surface_in_front},
       {"tracking_retried_from_width", tracking_retried_from_width},
       {"retried_start_last_change_mm", retried_start_change_mm},
       {"tracking_retry_failed", tracking_retry_failed},

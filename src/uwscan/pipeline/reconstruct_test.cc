@@ -444,6 +444,11 @@ TEST(ReconstructReproducibility, SameDatasetSameTrajectory) {
   EXPECT_GE(live.live_lag->max_s, live.live_lag->median_s);
   EXPECT_GE(live.live_lag->median_s, 0.0);
   EXPECT_LE(live.live_lag->max_at_scan_s, last_frame_s);
+  // A board on the floor stands on it, not in front: one pass is all a
+  // tank scan needs, nothing to warn of (ReconstructPasses for a hull).
+  EXPECT_FALSE(live.surface_in_front);
+  for (const std::string& warning : live.Warnings())
+    EXPECT_EQ(warning.find("standing in front"), std::string::npos) << warning;
   fs::remove_all(root);
 }
 
