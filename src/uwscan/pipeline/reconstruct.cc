@@ -17,6 +17,7 @@
 #include "uwscan/laser/profile.h"
 #include "uwscan/pipeline/frame_reader.h"
 #include "uwscan/pipeline/line_stage.h"
+#include "uwscan/pipeline/other_cameras.h"
 #include "uwscan/sim/scene_yaml.h"
 #include "uwscan/util/atomic_file.h"
 #include "uwscan/util/error.h"
@@ -33,51 +34,6 @@ namespace {
 
 uint8_t ToByte(float value) {
   return static_cast<uint8_t>(std::clamp(value * 255.0f, 0.0f, 255.0f));
-}
-
-std::vector<FrameRecord> ReadFrames(const fs::path& dataset, int max_frames) {
-  auto frames = ReadFramesCsv(dataset / "frames.csv");
-  UWS_CHECK(!frames.empty(), (dataset / "frames.csv").string(), ": no frames");
-  if (max_frames > 0 && static_cast<int>(frames.size()) > max_frames) frames.resize(max_frames);
-  // A missing image stops the scan: say so before, not minutes into it.
-  size_t missing = 0;
-  const FrameRecord* first_missing = nullptr;
-  for (const FrameRecord& frame : frames) {
-    std::error_code error;
-    if (fs::is_regular_file(dataset / frame.file, error)) continue;
-    if (!first_missing) first_missing = &frame;
-    ++missing;
-  }
-  UWS_CHECK(missing == 0, (dataset / first_missing->file).string(), ": no such image (frame ",
-            first_missing->index, " of frames.csv", missing > 1 ? ", and " : "",
-            missing > 1 ? std::to_string(missing - 1) + " more" : std::string(), ")");
-  return frames;
-}
-
-// The further cameras of a several-camera dataset (sim --pods 2): camera
-// NAME's images in DATASET/NAME/, a dataset of its own whose rig lists that
-// camera and its laser first.
-struct OtherCamera {
-  fs::path folder;
-  std::vector<FrameRecord> frames;
-  Rig rig;                   // as DATASET/NAME/rig.yaml has it
-  Rigid3d main_from_camera;  // from the main camera, through the rig
-};
-
-std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& rig,
-                                          size_t main_camera, int max_frames) {
-  std::vector<OtherCamera> others;
-  for (size_t c = 0; c < rig.cameras.size(); ++c) {
-    const fs::path folder = dataset / rig.cameras[c].name;
-    if (c == main_camera || !fs::exists(folder / "frames.csv")) continue;
-    OtherCamera other{folder, ReadFrames(folder, max_frames), ReadRigYaml(folder / "rig.yaml"),
-                      rig.CameraFromCamera(main_camera, c)};
-    UWS_CHECK(other.rig.cameras.front().name == rig.cameras[c].name, (folder / "rig.yaml").string(),
-              ": lists camera '", other.rig.cameras.front().name,
-              "' first, but the folder holds camera '", rig.cameras[c].name, "''s images");
-    others.push_back(std::move(other));
-  }
-  return others;
 }
 
 // The simulator's truth for --oracle-depths and --oracle-tracks (`flag`):
@@ -351,6 +307,29 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   FrameReader reader(frames, &line_stage, provider.get(), live_from,
                      live_from ? job.live_max_lag_s : std::nullopt);
   if (job.live_max_lag_s) report.live_max_lag_s = *job.live_max_lag_s;
+  // The further cameras' frames join the cloud as the main trajectory
+  // reaches their times (for a live run: as they are delivered, give or
+  // take the main poses' delay). That is held back by the pose smoothing's
+  // window, so their readers may lag that much more before they drop
+  // frames: they drop for a machine that falls behind, not for the window.
+  std::optional<double> other_max_lag_s;
+  if (live_from && job.live_max_lag_s) {
+    other_max_lag_s = *job.live_max_lag_s +
+                      report.smoothing_half_window * report.track_every * frame_interval;
+  }
+  OtherCameraStages other_stages(job, others, &report, live_from, other_max_lag_s);
+  const auto place_others = [&](bool all) {
+    if (!first_pose) return;
+    other_stages.Place(placed_poses, *first_pose, 1.5 * frame_interval, all, add_profile,
+                       [&](double timestamp_s, bool placed) {
+                         if (placed && live_from) {
+                           const double delivered_s = timestamp_s - frames.front().timestamp_s;
+                           live_lags.emplace_back(delivered_s,
+                                                  SecondsSince(*live_from) - delivered_s);
+                         }
+                         progress.Update(++frames_done);
+                       });
+  };
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameRecord& record = frames[i];
     ReadFrame frame = reader.Get(i);
@@ -378,6 +357,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     if (!detection.points.empty()) ++report.frames_with_line;
     pending.emplace(record.index, Pending{record.timestamp_s, std::move(profile)});
     place(updates);
+    place_others(false);
     report.seconds_io += SecondsSince(t);
     progress.Update(++frames_done);
     ThrowIfInterrupted();
@@ -395,7 +375,6 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
     }
   }
   report.frames_without_pose = report.frames - frames_placed;
-  if (live_from) report.live_lag = SummarizeLiveLag(live_lags, report.sequence_duration_s);
   if (!first_pose) {
     progress.Finish();
     report.pose_details = provider->Details();
@@ -408,43 +387,11 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
               why);
   }
 
-  // Further cameras (each with its own laser, §6.5): their profiles are
-  // placed with the main camera's trajectory, interpolated to their
-  // timestamps, and the rig's extrinsics.
-  for (const OtherCamera& other : others) {
-    const Camera& other_camera = other.rig.cameras.front();
-    const std::vector<FrameRecord>& other_frames = other.frames;
-    LineStage other_stage(job, other.folder, other_camera, other.rig.lasers.front(),
-                          other.rig.CameraFromLaser(0, 0), other_frames, &report);
-    TumWriter other_trajectory(job.out / ("trajectory_" + other_camera.name + ".tum"));
-    CameraReport camera_report{other_camera.name, other.rig.lasers.front().name};
-    FrameReader other_reader(other_frames, &other_stage, nullptr);
-    for (size_t i = 0; i < other_frames.size(); ++i) {
-      const FrameRecord& record = other_frames[i];
-      const ReadFrame frame = other_reader.Get(i);
-      const laser::Detection& detection = frame.detection;
-      const laser::Profile& profile = frame.profile;
-      ++camera_report.frames;
-      if (!detection.points.empty()) ++camera_report.frames_with_line;
-      const auto main_pose =
-          fusion::InterpolatePose(placed_poses, record.timestamp_s, 1.5 * frame_interval);
-      if (main_pose) {
-        const Rigid3d pose = *main_pose * other.main_from_camera;
-        other_stage.SetPose(record.index, pose);
-        other_trajectory.Add({record.timestamp_s, pose});
-        add_profile(profile, record.index, pose, *first_pose * other.main_from_camera);
-        camera_report.points += static_cast<long>(profile.points.size());
-      } else {
-        ++camera_report.frames_without_pose;
-      }
-      progress.Update(++frames_done);
-      ThrowIfInterrupted();
-    }
-    report.seconds_waiting_for_images += other_reader.seconds_waiting();
-    report.seconds_io += other_reader.seconds_waiting();
-    other_trajectory.Commit();
-    report.other_cameras.push_back(camera_report);
-  }
+  place_others(true);  // the further cameras' frames after the main trajectory's end
+  other_stages.Finish(&report);
+  if (live_from) report.live_lag = SummarizeLiveLag(live_lags, report.sequence_duration_s);
+  report.seconds_waiting_for_images += other_stages.seconds_waiting();
+  report.seconds_io += other_stages.seconds_waiting();
   progress.Finish();
   report.pose_details = provider->Details();
   cloud.Close();

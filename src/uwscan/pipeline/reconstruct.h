@@ -205,8 +205,9 @@ struct LiveLag {
   nlohmann::json ToJson() const;
 };
 // The summary of a live run's lags: (delivery time from the first frame,
-// lag) of each placed frame, in frame order; none if no frame was placed.
-std::optional<LiveLag> SummarizeLiveLag(const std::vector<std::pair<double, double>>& lags,
+// lag) of each placed frame, of every camera, in any order; none if no
+// frame was placed.
+std::optional<LiveLag> SummarizeLiveLag(std::vector<std::pair<double, double>> lags,
                                         double sequence_duration_s);
 
 // A further camera of the rig whose profiles joined the cloud.
@@ -215,6 +216,7 @@ struct CameraReport {
   int frames = 0;
   int frames_with_line = 0;
   int frames_without_pose = 0;  // outside the main camera's trajectory
+  int frames_dropped_live = 0;  // as ReconstructReport's, not counted in `frames`
   long points = 0;
   nlohmann::json ToJson() const;
 };

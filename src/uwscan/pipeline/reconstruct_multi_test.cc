@@ -6,9 +6,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string>
 
+#include "uwscan/fusion/pose_provider.h"
+#include "uwscan/io/dataset.h"
 #include "uwscan/io/ply.h"
+#include "uwscan/io/rig_yaml.h"
+#include "uwscan/io/tum.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/pipeline/testing.h"
@@ -62,6 +67,76 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
   EXPECT_LT(evaluation.compensated.point_error_rms_m, 0.002);
   EXPECT_GT(evaluation.uncompensated.point_error_rms_m,
             2.0 * evaluation.compensated.point_error_rms_m);
+  // Each of camera 1's poses is the main trajectory's at its time, moved
+  // through the rig (checked here from the outputs).
+  {
+    const auto main_trajectory = ReadTum(job.out / "trajectory.tum");
+    const auto second_frames = ReadFramesCsv(job.dataset / "cam1" / "frames.csv");
+    const auto second_trajectory = ReadTum(job.out / "trajectory_cam1.tum");
+    const Rigid3d main_from_second = ReadRigYaml(job.dataset / "rig.yaml").CameraFromCamera(0, 1);
+    ASSERT_EQ(second_trajectory.size(), second_frames.size());
+    for (size_t k = 0; k < second_frames.size(); ++k) {
+      const auto main = fusion::InterpolatePose(main_trajectory, second_frames[k].timestamp_s, 1.0);
+      ASSERT_TRUE(main.has_value());
+      const Rigid3d expected = *main * main_from_second;
+      const Rigid3d& placed = second_trajectory[k].world_from_camera;
+      EXPECT_LT((expected.translation - placed.translation).norm(), 1e-6) << k;
+      EXPECT_LT(expected.rotation.angularDistance(placed.rotation), 1e-6) << k;
+    }
+  }
+  // Camera 1's profiles join the cloud as the main trajectory reaches
+  // their times, not after the main camera's whole scan (a live cloud
+  // grows from both cameras at once): in the file, camera 1's frame k
+  // (numbered 20 + k) comes before camera 0's frame k + 3.
+  const auto joined_as_the_scan_went = [](const fs::path& cloud) {
+    std::map<int, size_t> first_at;  // frame -> its first point's place in the file
+    size_t at = 0;
+    for (const CloudPoint& point : ReadPly(cloud)) first_at.emplace(point.frame, at++);
+    int compared = 0;
+    for (int k = 0; k + 3 < 20; ++k) {
+      if (!first_at.count(20 + k) || !first_at.count(k + 3)) continue;
+      ++compared;
+      if (first_at[20 + k] > first_at[k + 3]) return false;
+    }
+    return compared >= 10;
+  };
+  EXPECT_TRUE(joined_as_the_scan_went(job.out / "cloud.ply"));
+  EXPECT_TRUE(joined_as_the_scan_went(job.out / "cloud_uncompensated.ply"));
+
+  // Replayed live, with the clock slowed tenfold (1.4 s): camera 1's
+  // frames are delivered at the camera's pace too and join the cloud as
+  // they come, their lags measured among the main camera's.
+  {
+    const fs::path slow = root / "slow";
+    fs::copy(job.dataset, slow, fs::copy_options::recursive);
+    const double t0 = ReadFramesCsv(job.dataset / "frames.csv").front().timestamp_s;
+    const auto slowed = [t0](double t) { return t0 + 10.0 * (t - t0); };
+    for (const fs::path& folder : {fs::path(), fs::path("cam1")}) {
+      FramesCsvWriter out(slow / folder / "frames.csv", /*with_laser_angle=*/true);
+      for (FrameRecord record : ReadFramesCsv(job.dataset / folder / "frames.csv")) {
+        record.timestamp_s = slowed(record.timestamp_s);
+        out.Add(record);
+      }
+      out.Commit();
+    }
+    std::vector<StampedPose> truth = ReadTum(job.dataset / "groundtruth.tum");
+    for (StampedPose& pose : truth) pose.timestamp_s = slowed(pose.timestamp_s);
+    WriteTum(slow / "groundtruth.tum", truth);
+    ReconstructJob live_job = job;
+    live_job.dataset = slow;
+    live_job.poses_file = slow / "groundtruth.tum";
+    live_job.out = root / "live";
+    live_job.live = true;
+    live_job.passes = 1;
+    live_job.retry_smaller_tracking = false;
+    const ReconstructReport live = RunReconstruct(live_job);
+    ASSERT_EQ(live.other_cameras.size(), 1u);
+    EXPECT_EQ(live.other_cameras.front().frames, 20);
+    EXPECT_GT(live.other_cameras.front().points, 20 * 100);
+    ASSERT_TRUE(live.live_lag.has_value());
+    EXPECT_LT(live.live_lag->median_s, 0.5);
+    EXPECT_TRUE(joined_as_the_scan_went(live_job.out / "cloud.ply"));
+  }
 
   job.out = root / "main_only";
   job.other_cameras = false;

@@ -83,13 +83,21 @@ std::vector<std::string> ReconstructReport::Warnings() const {
         "may lose the tracks)",
         frame_gaps.missing, frame_gaps.gaps, 1e3 * frame_gaps.longest_s));
   }
-  if (frames_dropped_live > 0) {
+  std::string others_dropped;  // the further cameras' drops, if any
+  for (const auto& camera : other_cameras) {
+    if (camera.frames_dropped_live == 0) continue;
+    others_dropped += fmt::format(
+        "{} {} of camera {}'s ({} %)", others_dropped.empty() ? "; and" : ",",
+        camera.frames_dropped_live, camera.name,
+        percent(camera.frames_dropped_live, camera.frames + camera.frames_dropped_live));
+  }
+  if (frames_dropped_live > 0 || !others_dropped.empty()) {
     warnings.push_back(fmt::format(
-        "{} frame(s) ({} %) dropped to keep the live cloud within {:g} s of the camera: this "
+        "{} frame(s) ({} %) dropped to keep the live cloud within {:g} s of the camera{}: this "
         "machine processes the scan slower than the camera takes it; the cloud has no profiles "
         "there and the odometry tracks across each drop",
         frames_dropped_live, percent(frames_dropped_live, frames + frames_dropped_live),
-        live_max_lag_s));
+        live_max_lag_s, others_dropped));
   }
   long main_points = points;  // the main camera's, placed: of frames with a pose
   for (const auto& camera : other_cameras) main_points -= camera.points;
@@ -318,12 +326,17 @@ nlohmann::json CameraReport::ToJson() const {
           {"frames", frames},
           {"frames_with_line", frames_with_line},
           {"frames_without_pose", frames_without_pose},
+          {"frames_dropped_live", frames_dropped_live},
           {"points", points}};
 }
 
-std::optional<LiveLag> SummarizeLiveLag(const std::vector<std::pair<double, double>>& lags,
+std::optional<LiveLag> SummarizeLiveLag(std::vector<std::pair<double, double>> lags,
                                         double sequence_duration_s) {
   if (lags.empty()) return std::nullopt;
+  // In delivery order (a further camera's frames join between the main
+  // camera's, and may come a little after later frames of it).
+  std::stable_sort(lags.begin(), lags.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
   LiveLag live;
   std::vector<double> values;
   for (const auto& [delivered_s, lag_s] : lags) {
