@@ -312,4 +312,37 @@ void LineStage::StartSweepFilter() {
   }
 }
 
+void AddFurtherCameraLineCounts(const ReconstructReport& further, ReconstructReport* report) {
+  ReconstructReport& r = *report;
+  r.frames_on_difference += further.frames_on_difference;
+  r.frames_laser_off += further.frames_laser_off;
+  r.frames_line_window_redone += further.frames_line_window_redone;
+  r.static_detections_removed += further.static_detections_removed;
+  r.frames_with_static_detections += further.frames_with_static_detections;
+  r.frames_sweep_filter_restored += further.frames_sweep_filter_restored;
+  r.texture_epipolar_matches += further.texture_epipolar_matches;
+  r.albedo_edge_points += further.albedo_edge_points;
+  r.off_colour_points += further.off_colour_points;
+  r.frames_with_off_colour += further.frames_with_off_colour;
+  r.clipped_samples += further.clipped_samples;
+  r.clipping_samples_examined += further.clipping_samples_examined;
+  r.frames_clipping_examined += further.frames_clipping_examined;
+  r.frames_with_clipped_scene += further.frames_with_clipped_scene;
+  r.features_clipped_samples += further.features_clipped_samples;
+  r.features_clipping_samples_examined += further.features_clipping_samples_examined;
+  r.frames_features_clipping_examined += further.frames_features_clipping_examined;
+  r.frames_with_clipped_features += further.frames_with_clipped_features;
+  r.triangulation_failures += further.triangulation_failures;
+  r.grazing_points += further.grazing_points;
+  r.seconds_detect += further.seconds_detect;
+  r.seconds_triangulate += further.seconds_triangulate;
+  r.laser_pose_inverse_fits = r.laser_pose_inverse_fits || further.laser_pose_inverse_fits;
+  if (r.laser_on_inverted_at < 0) r.laser_on_inverted_at = further.laser_on_inverted_at;
+  if (r.laser_seen_in.empty()) {
+    r.laser_seen_in = further.laser_seen_in;
+    r.laser_colour_warning = further.laser_colour_warning;
+  }
+  if (r.features_colour.empty()) r.features_colour = further.features_colour;
+}
+
 }  // namespace uwscan

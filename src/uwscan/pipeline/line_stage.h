@@ -103,4 +103,12 @@ class LineStage {
   size_t lit_frame_ = 0, lit_points_ = 0;
 };
 
+// Adds what a further camera's stage wrote to its own report (each
+// camera's stage runs on its own reading thread, in parallel with the
+// main camera's, so each writes a report of its own) to `report`: counts
+// and times summed; what each camera checks once (the laser's pose and
+// colour, its switching, the features' colour) kept from the main camera
+// where it found something, else taken from the further camera.
+void AddFurtherCameraLineCounts(const ReconstructReport& further, ReconstructReport* report);
+
 }  // namespace uwscan

@@ -46,18 +46,21 @@ std::vector<OtherCamera> FindOtherCameras(const fs::path& dataset, const Rig& ri
 }
 
 struct OtherCameraStages::Stage {
-  Stage(const ReconstructJob& job, const OtherCamera& other, ReconstructReport* report,
+  Stage(const ReconstructJob& job, const OtherCamera& other,
         std::optional<std::chrono::steady_clock::time_point> live_from,
         std::optional<double> max_lag_s)
       : camera(other),
         line_stage(job, other.folder, other.rig.cameras.front(), other.rig.lasers.front(),
-                   other.rig.CameraFromLaser(0, 0), other.frames, report),
+                   other.rig.CameraFromLaser(0, 0), other.frames, &line_report),
         trajectory(job.out / ("trajectory_" + other.rig.cameras.front().name + ".tum")),
         reader(other.frames, &line_stage, nullptr, live_from, max_lag_s) {
     camera_report.name = other.rig.cameras.front().name;
     camera_report.laser = other.rig.lasers.front().name;
   }
   const OtherCamera& camera;
+  // The line stage's counts: its own, as it runs on its own thread
+  // (AddFurtherCameraLineCounts adds them to the run's at the end).
+  ReconstructReport line_report;
   LineStage line_stage;
   TumWriter trajectory;
   FrameReader reader;  // last: its thread stops before the stage it reads with goes
@@ -67,11 +70,10 @@ struct OtherCameraStages::Stage {
 
 OtherCameraStages::OtherCameraStages(const ReconstructJob& job,
                                      const std::vector<OtherCamera>& others,
-                                     ReconstructReport* report,
                                      std::optional<std::chrono::steady_clock::time_point> live_from,
                                      std::optional<double> max_lag_s) {
   for (const OtherCamera& other : others)
-    stages_.push_back(std::make_unique<Stage>(job, other, report, live_from, max_lag_s));
+    stages_.push_back(std::make_unique<Stage>(job, other, live_from, max_lag_s));
 }
 
 OtherCameraStages::~OtherCameraStages() = default;
@@ -116,6 +118,7 @@ void OtherCameraStages::Finish(ReconstructReport* report) {
   for (const auto& stage : stages_) {
     stage->trajectory.Commit();
     report->other_cameras.push_back(stage->camera_report);
+    AddFurtherCameraLineCounts(stage->line_report, report);
   }
 }
 

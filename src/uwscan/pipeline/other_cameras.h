@@ -53,9 +53,8 @@ class OtherCameraStages {
   // Called for each frame taken, placed or not (its timestamp).
   using FrameDone = std::function<void(double timestamp_s, bool placed)>;
 
-  // `job`, `others` and `report` must outlive the stages.
+  // `job` and `others` must outlive the stages.
   OtherCameraStages(const ReconstructJob& job, const std::vector<OtherCamera>& others,
-                    ReconstructReport* report,
                     std::optional<std::chrono::steady_clock::time_point> live_from,
                     std::optional<double> max_lag_s);
   ~OtherCameraStages();
@@ -71,7 +70,8 @@ class OtherCameraStages {
   void Place(const std::vector<StampedPose>& main_poses, const Rigid3d& first_main_pose,
              double max_gap_s, bool all, const AddProfile& add_profile,
              const FrameDone& frame_done);
-  // Commits the cameras' trajectories and adds their reports to `report`.
+  // Commits the cameras' trajectories and adds their reports (and their
+  // line stages' counts) to `report`.
   void Finish(ReconstructReport* report);
   double seconds_waiting() const;
 

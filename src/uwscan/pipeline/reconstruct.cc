@@ -314,10 +314,10 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   // frames: they drop for a machine that falls behind, not for the window.
   std::optional<double> other_max_lag_s;
   if (live_from && job.live_max_lag_s) {
-    other_max_lag_s = *job.live_max_lag_s +
-                      report.smoothing_half_window * report.track_every * frame_interval;
+    other_max_lag_s =
+        *job.live_max_lag_s + report.smoothing_half_window * report.track_every * frame_interval;
   }
-  OtherCameraStages other_stages(job, others, &report, live_from, other_max_lag_s);
+  OtherCameraStages other_stages(job, others, live_from, other_max_lag_s);
   const auto place_others = [&](bool all) {
     if (!first_pose) return;
     other_stages.Place(placed_poses, *first_pose, 1.5 * frame_interval, all, add_profile,

@@ -143,6 +143,12 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
   const ReconstructReport main_only = RunReconstruct(job);
   EXPECT_TRUE(main_only.other_cameras.empty());
   EXPECT_EQ(main_only.points, report.points - second.points);
+  // Camera 1's line stage counts apart (it runs on its own thread, in
+  // parallel) and is added in: the scene's clipping examined on both
+  // cameras' frames; the first frame inspected is still camera 0's.
+  EXPECT_GT(report.frames_clipping_examined, main_only.frames_clipping_examined);
+  EXPECT_EQ(report.first_frame.file, main_only.first_frame.file);
+  EXPECT_EQ(report.first_frame.file.parent_path().parent_path(), job.dataset);
   // Camera 1 named on the top folder: its images are elsewhere.
   job.camera_name = "cam1";
   job.out = root / "wrong_camera";
