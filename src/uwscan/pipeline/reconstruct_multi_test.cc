@@ -108,20 +108,7 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
   // they come, their lags measured among the main camera's.
   {
     const fs::path slow = root / "slow";
-    fs::copy(job.dataset, slow, fs::copy_options::recursive);
-    const double t0 = ReadFramesCsv(job.dataset / "frames.csv").front().timestamp_s;
-    const auto slowed = [t0](double t) { return t0 + 10.0 * (t - t0); };
-    for (const fs::path& folder : {fs::path(), fs::path("cam1")}) {
-      FramesCsvWriter out(slow / folder / "frames.csv", /*with_laser_angle=*/true);
-      for (FrameRecord record : ReadFramesCsv(job.dataset / folder / "frames.csv")) {
-        record.timestamp_s = slowed(record.timestamp_s);
-        out.Add(record);
-      }
-      out.Commit();
-    }
-    std::vector<StampedPose> truth = ReadTum(job.dataset / "groundtruth.tum");
-    for (StampedPose& pose : truth) pose.timestamp_s = slowed(pose.timestamp_s);
-    WriteTum(slow / "groundtruth.tum", truth);
+    CopyWithClockStretched(job.dataset, slow, 10.0);
     ReconstructJob live_job = job;
     live_job.dataset = slow;
     live_job.poses_file = slow / "groundtruth.tum";

@@ -189,20 +189,8 @@ TEST_F(ReconstructTest, DroppedFramesAreCountedAndSaid) {
 // exactly as ever (the true poses here, so that only the drops differ).
 TEST_F(ReconstructTest, ALiveRunThatFallsBehindDropsFramesAndSaysSo) {
   const fs::path dataset = root_ / "fast_clock";
-  fs::copy(root_ / "data", dataset, fs::copy_options::recursive);
-  const double speed_up = 10.0;
-  std::vector<StampedPose> truth = ReadTum(dataset / "groundtruth.tum");
-  const double t0 = ReadFramesCsv(dataset / "frames.csv").front().timestamp_s;
-  for (StampedPose& pose : truth) pose.timestamp_s = t0 + (pose.timestamp_s - t0) / speed_up;
-  WriteTum(dataset / "groundtruth.tum", truth);
-  {
-    FramesCsvWriter out(dataset / "frames.csv", /*with_laser_angle=*/true);
-    for (FrameRecord record : ReadFramesCsv(root_ / "data" / "frames.csv")) {
-      record.timestamp_s = t0 + (record.timestamp_s - t0) / speed_up;
-      out.Add(record);
-    }
-    out.Commit();
-  }
+  CopyWithClockStretched(root_ / "data", dataset, 1.0 / 10.0);
+  const std::vector<StampedPose> truth = ReadTum(dataset / "groundtruth.tum");
   ReconstructJob job;
   job.dataset = dataset;
   job.out = root_ / "out_fast_clock";

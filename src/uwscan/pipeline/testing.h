@@ -9,7 +9,10 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
+#include "uwscan/io/dataset.h"
+#include "uwscan/io/tum.h"
 #include "uwscan/pipeline/reconstruct.h"
 #include "uwscan/sim/scenario.h"
 #include "uwscan/sim/simulate.h"
@@ -75,6 +78,40 @@ inline ReconstructJob SimulatedJobOnTruePoses(const std::filesystem::path& root,
   ReconstructJob job = SimulatedJob(root, scenario, options);
   job.poses_file = job.dataset / "groundtruth.tum";
   return job;
+}
+
+// A copy of `dataset` at `to` whose clock runs `factor` times as slow
+// (below 1: fast): the times of frames.csv, of every further camera's
+// (DATASET/NAME/frames.csv) and of groundtruth.tum stretched from the
+// first frame's. A live replay of it takes `factor` times the scan's time.
+inline void CopyWithClockStretched(const std::filesystem::path& dataset,
+                                   const std::filesystem::path& to, double factor) {
+  namespace fs = std::filesystem;
+  fs::copy(dataset, to, fs::copy_options::recursive);
+  const double t0 = ReadFramesCsv(dataset / "frames.csv").front().timestamp_s;
+  const auto stretched = [t0, factor](double t) { return t0 + factor * (t - t0); };
+  std::vector<fs::path> folders = {fs::path()};
+  for (const auto& entry : fs::directory_iterator(dataset)) {
+    if (entry.is_directory() && fs::exists(entry.path() / "frames.csv"))
+      folders.push_back(entry.path().filename());
+  }
+  for (const fs::path& folder : folders) {
+    std::vector<FrameRecord> records = ReadFramesCsv(dataset / folder / "frames.csv");
+    bool with_angle = false, with_on = false;
+    for (const FrameRecord& record : records) {
+      with_angle = with_angle || record.laser_angle_rad.has_value();
+      with_on = with_on || record.laser_on.has_value();
+    }
+    FramesCsvWriter out(to / folder / "frames.csv", with_angle, with_on);
+    for (FrameRecord& record : records) {
+      record.timestamp_s = stretched(record.timestamp_s);
+      out.Add(record);
+    }
+    out.Commit();
+  }
+  std::vector<StampedPose> truth = ReadTum(dataset / "groundtruth.tum");
+  for (StampedPose& pose : truth) pose.timestamp_s = stretched(pose.timestamp_s);
+  WriteTum(to / "groundtruth.tum", truth);
 }
 
 }  // namespace uwscan::pipeline_testing
