@@ -13,7 +13,7 @@
 namespace uwscan {
 namespace {
 
-// The vertex count is written with a fixed width and patched on Close().
+// The vertex count is written with a fixed width and patched on Finish().
 constexpr int kCountWidth = 12;
 constexpr const char* kCountTag = "element vertex ";
 
@@ -64,10 +64,17 @@ void PlyStreamWriter::Add(const CloudPoint& p) {
   ++count_;
 }
 
-void PlyStreamWriter::Close() {
+void PlyStreamWriter::Finish() {
+  if (finished_) return;
   std::ostream& out = file_.stream();
   out.seekp(0);
   out << Header(count_);  // same length: the count has a fixed width
+  file_.Finish();
+  finished_ = true;
+}
+
+void PlyStreamWriter::Commit() {
+  Finish();
   file_.Commit();
 }
 

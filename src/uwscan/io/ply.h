@@ -20,8 +20,8 @@ struct CloudPoint {
 };
 
 // Streams points to disk as they come (bounded memory). The file appears
-// under its final name only after Close(); without Close() the temporary is
-// removed (AtomicFile).
+// under its final name only after Commit(); without Commit() the temporary
+// is removed (AtomicFile).
 class PlyStreamWriter {
  public:
   explicit PlyStreamWriter(std::filesystem::path path);
@@ -29,13 +29,16 @@ class PlyStreamWriter {
   PlyStreamWriter& operator=(const PlyStreamWriter&) = delete;
 
   void Add(const CloudPoint& point);
-  void Close();
+  // Completes the file under its temporary name (AtomicFile::Finish).
+  void Finish();
+  void Commit();  // finishes (if not done yet) and renames into place
   int64_t count() const { return count_; }
 
  private:
   std::filesystem::path path_;
-  AtomicFile file_;  // the header's vertex count is patched in place on Close()
+  AtomicFile file_;  // the header's vertex count is patched in place on Finish()
   int64_t count_ = 0;
+  bool finished_ = false;
 };
 
 // Reads the vertices of a PLY written by PlyStreamWriter or by another tool

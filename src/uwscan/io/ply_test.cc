@@ -25,7 +25,7 @@ TEST(Ply, StreamedCloudReadsBack) {
       writer.Add(p);
     }
     EXPECT_FALSE(std::filesystem::exists(path));  // not under the final name yet
-    writer.Close();
+    writer.Commit();
   }
   const auto points = ReadPly(path);
   ASSERT_EQ(points.size(), 1000u);
@@ -57,7 +57,7 @@ TEST(Ply, RejectsNaNAndTruncation) {
   bad.position.x() = std::nan("");
   EXPECT_THROW(writer.Add(bad), Error);
   writer.Add(CloudPoint{});
-  writer.Close();
+  writer.Commit();
   std::filesystem::resize_file(path, std::filesystem::file_size(path) - 3);
   EXPECT_THROW(ReadPly(path), Error);
   std::filesystem::remove(path);

@@ -32,6 +32,7 @@ class TumWriter {
  public:
   explicit TumWriter(const std::filesystem::path& path);
   void Add(const StampedPose& pose);
+  void Finish() { file_.Finish(); }  // AtomicFile::Finish
   void Commit() { file_.Commit(); }
 
  private:

@@ -268,6 +268,8 @@ LaserDetectSummary RunLaserDetect(const LaserDetectJob& job) {
     ThrowIfInterrupted();
   }
   progress.Finish();
+  detections.Finish();  // both whole on disk before either takes its name
+  if (profiles) profiles->Finish();
   detections.Commit();
   if (profiles) profiles->Commit();
   if (overlays) overlays->Keep();

@@ -116,10 +116,14 @@ void OtherCameraStages::Place(const std::vector<StampedPose>& main_poses,
 
 void OtherCameraStages::Finish(ReconstructReport* report) {
   for (const auto& stage : stages_) {
-    stage->trajectory.Commit();
+    stage->trajectory.Finish();
     report->other_cameras.push_back(stage->camera_report);
     AddFurtherCameraLineCounts(stage->line_report, report);
   }
+}
+
+void OtherCameraStages::Commit() {
+  for (const auto& stage : stages_) stage->trajectory.Commit();
 }
 
 double OtherCameraStages::seconds_waiting() const {

@@ -70,9 +70,11 @@ class OtherCameraStages {
   void Place(const std::vector<StampedPose>& main_poses, const Rigid3d& first_main_pose,
              double max_gap_s, bool all, const AddProfile& add_profile,
              const FrameDone& frame_done);
-  // Commits the cameras' trajectories and adds their reports (and their
-  // line stages' counts) to `report`.
+  // Finishes the cameras' trajectories (TumWriter::Finish) and adds their
+  // reports (and their line stages' counts) to `report`; Commit() renames
+  // the trajectories into place.
   void Finish(ReconstructReport* report);
+  void Commit();
   double seconds_waiting() const;
 
  private:

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <exception>
 #include <map>
+#include <memory>
 
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/dataset.h"
@@ -116,11 +117,35 @@ std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job,
 }
 
 // report.json of a run into job.out.
-void WriteReport(const ReconstructJob& job, const ReconstructReport& report) {
+// report.json, written to its temporary name (AtomicFile::Finish).
+std::unique_ptr<AtomicFile> FinishedReport(const ReconstructJob& job,
+                                           const ReconstructReport& report) {
   nlohmann::json json = report.ToJson();
   json["dataset"] = fs::absolute(job.dataset).string();
   json["motion_compensation"] = job.motion_compensation;
-  WriteFileAtomic(job.out / "report.json", json.dump(2) + "\n");
+  auto file = std::make_unique<AtomicFile>(job.out / "report.json");
+  file->stream() << json.dump(2) << "\n";
+  file->Finish();
+  return file;
+}
+
+void WriteReport(const ReconstructJob& job, const ReconstructReport& report) {
+  FinishedReport(job, report)->Commit();
+}
+
+// A run after the first (a later pass, the run on half the image) failed
+// or was interrupted before committing its outputs: those of the run
+// before stand, whole, and `earlier` (its report, saying why there is no
+// later one) replaces its report.json. An interruption is passed on,
+// naming what stands (`whose`: "pass 1's").
+ReconstructReport KeepEarlierRun(const ReconstructJob& job, const ReconstructReport& earlier,
+                                 const Error& error, const std::string& whose) {
+  WriteReport(job, earlier);
+  if (const auto* interrupted = dynamic_cast<const Interrupted*>(&error)) {
+    throw Interrupted(interrupted->signal(),
+                      job.out.string() + " holds " + whose + " outputs (report.json says so)");
+  }
+  return earlier;
 }
 
 // What the self-referenced odometry of one pass measured, for the next.
@@ -394,9 +419,9 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   report.seconds_io += other_stages.seconds_waiting();
   progress.Finish();
   report.pose_details = provider->Details();
-  cloud.Close();
-  uncompensated.Close();
-  trajectory.Commit();
+  cloud.Finish();
+  uncompensated.Finish();
+  trajectory.Finish();
   report.passes = pass;
   if (prior && measured) {
     report.pass_changes = prior->changes;
@@ -418,7 +443,14 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   }
   report.seconds = SecondsSince(start) + report.seconds_earlier_passes;
   if (measured) measured->seconds = report.seconds;
-  WriteReport(job, report);
+  // Every output is whole on disk before any takes its final name (a disk
+  // that fills up on the last leaves none), report.json last.
+  const std::unique_ptr<AtomicFile> report_file = FinishedReport(job, report);
+  cloud.Commit();
+  uncompensated.Commit();
+  trajectory.Commit();
+  other_stages.Commit();
+  report_file->Commit();
   return report;
 }
 
@@ -470,7 +502,12 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     const int passes = automatic ? ReconstructJob::kMaxPasses : job.passes;
     for (int pass = 2; pass <= passes; ++pass) {
       MeasuredScene next;
-      report = RunPass(job, nullptr, pass, automatic ? 0 : passes, &measured, &next);
+      try {
+        report = RunPass(job, nullptr, pass, automatic ? 0 : passes, &measured, &next);
+      } catch (const Error& e) {
+        report.later_pass_failed = e.what();
+        return KeepEarlierRun(job, report, e, fmt::format("pass {}'s", pass - 1));
+      }
       measured = std::move(next);
       if (!automatic || pass < ReconstructJob::kMinAutoPasses) continue;
       const auto& changes = report.pass_changes;
@@ -496,14 +533,10 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
   const ReconstructReport first = report;
   try {
     return RunPass(smaller, nullptr, 1, job.passes, nullptr, nullptr, &first);
-  } catch (const Interrupted&) {
-    throw;
   } catch (const Error& e) {
-    // Nothing placed on half the image (its outputs were never committed):
-    // the first run's stand, and its report says why there is no second.
+    // Nothing placed on half the image (say), or Ctrl-C.
     report.tracking_retry_failed = e.what();
-    WriteReport(job, report);
-    return report;
+    return KeepEarlierRun(job, report, e, "the first run's");
   }
 }
 

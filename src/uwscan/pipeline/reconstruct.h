@@ -317,6 +317,10 @@ struct ReconstructReport {
   double retried_start_change_mm = 0.0;
   // Why such a second run failed, whose outputs are then the first's.
   std::string tracking_retry_failed;
+  // Why the pass after the last one here failed or was interrupted (its
+  // error), whose outputs are then this pass's: each pass commits its own
+  // whole.
+  std::string later_pass_failed;
   double sequence_duration_s = 0.0;  // from the frame timestamps
   std::optional<LiveLag> live_lag;   // ReconstructJob::live only
   // Frames a live run dropped to keep within ReconstructJob::live_max_lag_s

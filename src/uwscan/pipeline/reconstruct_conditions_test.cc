@@ -4,15 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -132,24 +129,9 @@ TEST(ReconstructTurbid, AStartThatDoesNotSettleRunsAgainOnHalfTheImage) {
   job.out = root / "failed";
   job.retry_smaller_tracking = true;
   const fs::path last_frame = job.dataset / "frames" / "000099.png";
-  std::atomic<bool> done = false, damaged = false;
-  std::thread damage([&] {
-    while (!done && !fs::exists(job.out / "report.json"))
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    if (done) return;
-    fs::resize_file(last_frame, fs::file_size(last_frame) / 2);
-    damaged = true;
-  });
-  ReconstructReport failed;
-  try {
-    failed = RunReconstruct(job);
-  } catch (...) {
-    done = true;
-    damage.join();
-    throw;
-  }
-  done = true;
-  damage.join();
+  bool damaged = false;
+  const ReconstructReport failed = RunReconstructActingOnceCommitted(
+      job, [&] { fs::resize_file(last_frame, fs::file_size(last_frame) / 2); }, &damaged);
   ASSERT_TRUE(damaged);
   EXPECT_NE(failed.tracking_retry_failed.find("000099.png"), std::string::npos)
       << failed.tracking_retry_failed;

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "uwscan/fusion/pose_provider.h"
@@ -19,6 +22,7 @@
 #include "uwscan/pipeline/testing.h"
 #include "uwscan/sim/simulate.h"
 #include "uwscan/util/error.h"
+#include "uwscan/util/interrupt.h"
 
 namespace uwscan {
 namespace {
@@ -152,6 +156,56 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
   fs::remove_all(root);
 }
 
+// A later pass interrupted by Ctrl-C, or failing (a frame damaged), once
+// the first pass has committed its outputs: those stand, whole (the
+// trajectory of `one_pass`, a run of one pass on `job`'s dataset), the
+// report says why the second is missing, and the interruption names them.
+void CheckALaterPassThatFails(ReconstructJob job, const fs::path& root, const fs::path& one_pass) {
+  const auto says = [](const ReconstructReport& report, const std::string& what) {
+    const auto warnings = report.Warnings();
+    return std::any_of(warnings.begin(), warnings.end(), [&](const std::string& warning) {
+      return warning.find(what) != std::string::npos;
+    });
+  };
+  const auto stands = [&](const fs::path& out) {
+    EXPECT_EQ(FileBytes(out / "trajectory.tum"), FileBytes(one_pass / "trajectory.tum"));
+    for (const auto& entry : fs::directory_iterator(out))
+      EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+    const nlohmann::json json = nlohmann::json::parse(std::ifstream(out / "report.json"));
+    EXPECT_EQ(json["passes"], 1);
+    return json["later_pass_failed"].get<std::string>();
+  };
+  job.passes = 0;
+  job.out = root / "interrupted";
+  std::signal(SIGINT, SIG_DFL);  // as from a terminal
+  try {
+    RunReconstructActingOnceCommitted(job, [] { std::raise(SIGINT); });
+    ADD_FAILURE() << "not interrupted";
+  } catch (const Interrupted& e) {
+    EXPECT_EQ(e.signal(), SIGINT);
+    EXPECT_NE(std::string(e.what()).find(job.out.string() + " holds pass 1's outputs"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(stands(job.out), "interrupted by Ctrl-C");
+
+  job.out = root / "failed";
+  fs::copy(job.dataset, root / "damaged", fs::copy_options::recursive);
+  job.dataset = root / "damaged";
+  const fs::path last_frame = job.dataset / ReadFramesCsv(job.dataset / "frames.csv").back().file;
+  bool damaged = false;
+  const ReconstructReport failed = RunReconstructActingOnceCommitted(
+      job, [&] { fs::resize_file(last_frame, fs::file_size(last_frame) / 2); }, &damaged);
+  ASSERT_TRUE(damaged);
+  EXPECT_EQ(failed.passes, 1);
+  EXPECT_NE(failed.later_pass_failed.find(last_frame.filename().string()), std::string::npos)
+      << failed.later_pass_failed;
+  EXPECT_EQ(stands(job.out), failed.later_pass_failed);
+  EXPECT_TRUE(says(failed, "pass 2 failed ("));
+  EXPECT_TRUE(says(failed, "these outputs are pass 1's"));
+  EXPECT_FALSE(says(failed, "without --live"));  // auto passes did run
+}
+
 // A hull with a propeller shaft in front of it (§6.5), scanned while the
 // platform moves along: the laser reaches the shaft late in the scan, so a
 // single pass gives the shaft's features the hull's depth, 0.7 m too far,
@@ -210,6 +264,7 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   EXPECT_TRUE(automatic.surface_in_front);
   EXPECT_FALSE(says_in_front(automatic));
   EXPECT_FALSE(says_in_front(two));
+  CheckALaterPassThatFails(job, root, root / "one");
   job.poses_file = job.dataset / "ins.tum";
   const double ins = shaft_residual(run("ins", 0));
   std::printf(

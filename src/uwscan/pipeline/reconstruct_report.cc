@@ -242,7 +242,14 @@ std::vector<std::string> ReconstructReport::Warnings() const {
         passes, 1e3 * pass_changes.back().moved_m, pass_changes.back().turned_deg,
         1e3 * passes_settled_within.moved_m, passes_settled_within.turned_deg));
   }
-  if (surface_in_front && passes == 1) {
+  if (!later_pass_failed.empty()) {
+    warnings.push_back(fmt::format(
+        "pass {} failed ({}): these outputs are pass {}'s, and the depths of the surface in front "
+        "of the scene's main one, and so the poses, may still be off (run again for the passes "
+        "that settle them)",
+        passes + 1, later_pass_failed, passes));
+  }
+  if (surface_in_front && passes == 1 && later_pass_failed.empty()) {
     // One pass on a hull with a shaft in front: the shaft's features had
     // the hull's depth until the laser reached the shaft (BENCHMARKS.md,
     // "A live run in front of a hull").
@@ -435,6 +442,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"tracking_retried_from_width", tracking_retried_from_width},
       {"retried_start_last_change_mm", retried_start_change_mm},
       {"tracking_retry_failed", tracking_retry_failed},
+      {"later_pass_failed", later_pass_failed},
       {"track_every", track_every},
       {"start_screen_every", start_screen_every},
       {"smoothing_half_window", smoothing_half_window},

@@ -12,6 +12,8 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "uwscan/eval/trajectory_metrics.h"
 #include "uwscan/io/dataset.h"
@@ -534,6 +536,30 @@ TEST_F(ReconstructTest, BadInputIsAClearErrorWithoutOutput) {
   EXPECT_NE(message().find("rig.yaml: the rig has no laser named 'laser9'"), std::string::npos)
       << message();
   EXPECT_FALSE(fs::exists(job.out));
+}
+
+// An output that cannot be written at the end (here report.json's
+// temporary name is taken by a folder; a disk that fills up on the last
+// file does the same) leaves none of the others under their final names:
+// each is written whole under its temporary name before any is renamed.
+TEST_F(ReconstructTest, AnOutputThatCannotBeWrittenLeavesNoneOfTheOthers) {
+  ReconstructJob job;
+  job.dataset = root_ / "data";
+  job.poses_file = job.dataset / "groundtruth.tum";
+  job.out = root_ / "out_unwritable";
+  job.quiet = true;
+  const fs::path in_the_way = job.out / ("report.json.tmp-" + std::to_string(::getpid()));
+  fs::create_directories(in_the_way);
+  try {
+    RunReconstruct(job);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find((job.out / "report.json").string()), std::string::npos)
+        << e.what();
+  }
+  std::vector<fs::path> left;
+  for (const auto& entry : fs::directory_iterator(job.out)) left.push_back(entry.path());
+  EXPECT_EQ(left, std::vector<fs::path>{in_the_way});
 }
 
 // Ctrl-C in the middle of a scan (here raised by the pose provider at the

@@ -4,11 +4,14 @@
 
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "uwscan/io/dataset.h"
@@ -112,6 +115,36 @@ inline void CopyWithClockStretched(const std::filesystem::path& dataset,
   std::vector<StampedPose> truth = ReadTum(dataset / "groundtruth.tum");
   for (StampedPose& pose : truth) pose.timestamp_s = stretched(pose.timestamp_s);
   WriteTum(to / "groundtruth.tum", truth);
+}
+
+// RunReconstruct(job), doing `act` on another thread once the run's first
+// outputs are committed (its report.json, written last, is there): a later
+// run (another pass, the run on half the image) then meets what `act` did.
+// `acted` (if given) says whether it came to that.
+template <typename Act>
+ReconstructReport RunReconstructActingOnceCommitted(const ReconstructJob& job, Act act,
+                                                    bool* acted = nullptr) {
+  std::atomic<bool> done = false, did = false;
+  std::thread actor([&] {
+    while (!done && !std::filesystem::exists(job.out / "report.json"))
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (done) return;
+    act();
+    did = true;
+  });
+  const auto finish = [&] {
+    done = true;
+    actor.join();
+    if (acted) *acted = did;
+  };
+  try {
+    ReconstructReport report = RunReconstruct(job);
+    finish();
+    return report;
+  } catch (...) {
+    finish();
+    throw;
+  }
 }
 
 }  // namespace uwscan::pipeline_testing

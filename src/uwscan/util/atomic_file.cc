@@ -51,12 +51,19 @@ AtomicFile::~AtomicFile() {
   }
 }
 
-void AtomicFile::Commit() {
+void AtomicFile::Finish() {
+  if (finished_) return;
   out_.flush();
   const int write_error = errno;
   UWS_CHECK(out_.good(), path_.string(), ": write failed",
             WriteFailureReason(temp_path_, write_error));
   out_.close();
+  UWS_CHECK(!out_.fail(), path_.string(), ": write failed", WriteFailureReason(temp_path_, errno));
+  finished_ = true;
+}
+
+void AtomicFile::Commit() {
+  Finish();
   std::error_code error;
   std::filesystem::rename(temp_path_, path_, error);
   UWS_CHECK(!error, path_.string(), ": cannot rename into place: ", error.message());

@@ -18,7 +18,11 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   std::ostream& stream() { return out_; }
-  // Flushes, checks the stream and renames onto the final path.
+  // Flushes, checks the stream and closes it: the contents are on disk,
+  // still under the temporary name (a job with several outputs finishes
+  // them all before it commits any, so a full disk leaves none).
+  void Finish();
+  // Finishes (if not done yet) and renames onto the final path.
   void Commit();
 
   const std::filesystem::path& path() const { return path_; }
@@ -27,6 +31,7 @@ class AtomicFile {
   std::filesystem::path path_;
   std::filesystem::path temp_path_;
   std::ofstream out_;
+  bool finished_ = false;
   bool committed_ = false;
 };
 

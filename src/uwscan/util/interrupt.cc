@@ -26,8 +26,9 @@ Handler Install(int signal) {
 
 }  // namespace
 
-Interrupted::Interrupted(int signal)
-    : Error(std::string("interrupted by ") + (signal == SIGTERM ? "SIGTERM" : "Ctrl-C")),
+Interrupted::Interrupted(int signal, const std::string& outcome)
+    : Error(std::string("interrupted by ") + (signal == SIGTERM ? "SIGTERM" : "Ctrl-C") +
+            (outcome.empty() ? "" : ": " + outcome)),
       signal_(signal) {}
 
 InterruptibleScope::InterruptibleScope() {

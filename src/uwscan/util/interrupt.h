@@ -10,10 +10,12 @@
 
 namespace uwscan {
 
-// Thrown by ThrowIfInterrupted(); the CLI exits with 128 + signal().
+// Thrown by ThrowIfInterrupted(); the CLI exits with 128 + signal(). A job
+// that leaves complete outputs of an earlier stage behind says so in
+// `outcome` ("R holds pass 1's outputs"), appended to the message.
 class Interrupted : public Error {
  public:
-  explicit Interrupted(int signal);
+  explicit Interrupted(int signal, const std::string& outcome = "");
   int signal() const { return signal_; }
 
  private:
