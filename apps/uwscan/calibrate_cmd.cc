@@ -142,11 +142,12 @@ void RunCalibrateCamera(const CameraArgs& args) {
     replaced = true;
   }
   if (!replaced) rig.cameras.push_back(calibrated);
-  if (report_folder) {
-    WriteReport(args.report, "calibration", out.report, &out.residual_plot);
-    report_folder->Keep();
-  }
-  WriteRigYaml(args.out, rig);
+  StagedFiles files;  // the report and the rig: all or none
+  if (report_folder)
+    AddReportFiles(args.report, "calibration", out.report, &out.residual_plot, &files);
+  files.Add(args.out, RigToYaml(rig));
+  files.Commit();
+  if (report_folder) report_folder->Keep();
   std::printf("wrote %s\n", args.out.c_str());
 }
 
@@ -206,11 +207,11 @@ void RunCalibrateLaser(const LaserArgs& args) {
   } else {
     rig.lasers.push_back(laser);
   }
-  if (report_folder) {
-    WriteReport(args.report, "laser_calibration", out.report, nullptr);
-    report_folder->Keep();
-  }
-  WriteRigYaml(args.out, rig);
+  StagedFiles files;  // the report and the rig: all or none
+  if (report_folder) AddReportFiles(args.report, "laser_calibration", out.report, nullptr, &files);
+  files.Add(args.out, RigToYaml(rig));
+  files.Commit();
+  if (report_folder) report_folder->Keep();
   std::printf("wrote %s\n", args.out.c_str());
 }
 

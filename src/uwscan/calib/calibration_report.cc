@@ -174,17 +174,18 @@ cv::Mat DrawResidualField(const CameraCalibrationResult& result, int width, int 
   return plot;
 }
 
-void WriteReport(const std::filesystem::path& dir, const std::string& stem,
-                 const nlohmann::json& report, const cv::Mat* plot) {
+void AddReportFiles(const std::filesystem::path& dir, const std::string& stem,
+                    const nlohmann::json& report, const cv::Mat* plot, StagedFiles* files) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   UWS_CHECK(!ec && std::filesystem::is_directory(dir), dir.string(),
             ": cannot create the report directory");
-  WriteFileAtomic(dir / (stem + ".json"), report.dump(2) + "\n");
+  files->Add(dir / (stem + ".json"), report.dump(2) + "\n");
   if (plot) {
     std::vector<uchar> png;
     UWS_CHECK(cv::imencode(".png", *plot, png), "cannot encode the residual plot");
-    WriteFileAtomic(dir / (stem + "_residuals.png"), std::string(png.begin(), png.end()));
+    files->Add(dir / (stem + "_residuals.png"), std::string(png.begin(), png.end()),
+               /*binary=*/true);
   }
 }
 

@@ -5,11 +5,13 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "uwscan/calib/camera_calibration.h"
 #include "uwscan/calib/checkerboard.h"
 #include "uwscan/calib/laser_calibration.h"
+#include "uwscan/util/atomic_file.h"
 
 namespace uwscan {
 
@@ -29,8 +31,9 @@ nlohmann::json PinholeComparisonJson(const Camera& flatport, const Camera* calib
 // percentile is 40 px long, coloured by magnitude, with a legend.
 cv::Mat DrawResidualField(const CameraCalibrationResult& result, int width, int height);
 
-// Writes DIR/<stem>.json and DIR/<stem>_residuals.png atomically.
-void WriteReport(const std::filesystem::path& dir, const std::string& stem,
-                 const nlohmann::json& report, const cv::Mat* plot);
+// DIR/<stem>.json and DIR/<stem>_residuals.png (with a plot), added to
+// `files` (renamed into place by their Commit(), with the rig's).
+void AddReportFiles(const std::filesystem::path& dir, const std::string& stem,
+                    const nlohmann::json& report, const cv::Mat* plot, StagedFiles* files);
 
 }  // namespace uwscan

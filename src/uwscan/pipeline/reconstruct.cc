@@ -7,7 +7,6 @@
 #include <cmath>
 #include <exception>
 #include <map>
-#include <memory>
 
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/dataset.h"
@@ -116,21 +115,17 @@ std::unique_ptr<fusion::PoseProvider> ExternalPoses(const ReconstructJob& job,
                                                           kMaxExtrapolationS, std::move(gaps));
 }
 
-// report.json of a run into job.out.
-// report.json, written to its temporary name (AtomicFile::Finish).
-std::unique_ptr<AtomicFile> FinishedReport(const ReconstructJob& job,
-                                           const ReconstructReport& report) {
+// report.json's text for a run.
+std::string ReportText(const ReconstructJob& job, const ReconstructReport& report) {
   nlohmann::json json = report.ToJson();
   json["dataset"] = fs::absolute(job.dataset).string();
   json["motion_compensation"] = job.motion_compensation;
-  auto file = std::make_unique<AtomicFile>(job.out / "report.json");
-  file->stream() << json.dump(2) << "\n";
-  file->Finish();
-  return file;
+  return json.dump(2) + "\n";
 }
 
+// report.json of a run into job.out.
 void WriteReport(const ReconstructJob& job, const ReconstructReport& report) {
-  FinishedReport(job, report)->Commit();
+  WriteFileAtomic(job.out / "report.json", ReportText(job, report));
 }
 
 // A run after the first (a later pass, the run on half the image) failed
@@ -445,12 +440,13 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
   if (measured) measured->seconds = report.seconds;
   // Every output is whole on disk before any takes its final name (a disk
   // that fills up on the last leaves none), report.json last.
-  const std::unique_ptr<AtomicFile> report_file = FinishedReport(job, report);
+  StagedFiles report_file;
+  report_file.Add(job.out / "report.json", ReportText(job, report));
   cloud.Commit();
   uncompensated.Commit();
   trajectory.Commit();
   other_stages.Commit();
-  report_file->Commit();
+  report_file.Commit();
   return report;
 }
 

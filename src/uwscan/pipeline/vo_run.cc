@@ -13,6 +13,7 @@
 #include "uwscan/eval/port_analysis.h"
 #include "uwscan/fusion/self_referenced.h"
 #include "uwscan/io/image.h"
+#include "uwscan/io/tum_trajectory.h"
 #include "uwscan/laser/detector.h"
 #include "uwscan/pipeline/laser_detect.h"
 #include "uwscan/pipeline/vo_dataset.h"
@@ -323,12 +324,14 @@ VoRunSummary RunVisualOdometry(const VoJob& job) {
                                          "odometry waited to start: {}",
                                          waited, total, 100.0 * waited / total, why));
   }
-  WriteTumTrajectory(job.trajectory_out, trajectory);
+  StagedFiles outputs;
+  outputs.Add(job.trajectory_out, TumTrajectoryToText(trajectory));
   if (job.status_out) {
     std::string text = "frame,timestamp_s,status,keyframe,tracks,inliers,message\n";
     for (const std::string& line : status_lines) text += line + "\n";
-    WriteFileAtomic(*job.status_out, text);
+    outputs.Add(*job.status_out, text);
   }
+  outputs.Commit();
   if (dataset.ground_truth && trajectory.poses.size() >= 3) {
     try {
       summary.metrics = ComputeTrajectoryMetrics(trajectory.poses, dataset.ground_truth->poses);

@@ -141,9 +141,21 @@ void RefuseOutputOntoInput(const std::string& option, const std::filesystem::pat
 }
 
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents) {
-  AtomicFile file(path);
-  file.stream() << contents;
+  StagedFiles file;
+  file.Add(path, contents);
   file.Commit();
+}
+
+void StagedFiles::Add(const std::filesystem::path& path, const std::string& contents, bool binary) {
+  auto file = std::make_unique<AtomicFile>(path, binary);
+  file->stream() << contents;
+  file->Finish();
+  files_.push_back(std::move(file));
+}
+
+void StagedFiles::Commit() {
+  for (const auto& file : files_) file->Commit();
+  files_.clear();
 }
 
 }  // namespace uwscan

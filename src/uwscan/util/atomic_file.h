@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,19 @@ class StagedFolder {
 
 // Writes a whole string atomically.
 void WriteFileAtomic(const std::filesystem::path& path, const std::string& contents);
+
+// Several outputs of one job: each written whole under its temporary name
+// as it is added (AtomicFile::Finish), all renamed into place by Commit(),
+// so a write that fails (a full disk) leaves none of them. Without Commit()
+// every temporary is removed.
+class StagedFiles {
+ public:
+  void Add(const std::filesystem::path& path, const std::string& contents, bool binary = false);
+  void Commit();
+
+ private:
+  std::vector<std::unique_ptr<AtomicFile>> files_;
+};
 
 // Whether `a` and `b` both exist and are the same file or folder, by any
 // path (false where either cannot be looked at).

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "uwscan/util/error.h"
 
@@ -87,6 +88,48 @@ TEST_F(AtomicOutputTest, AFailedWriteSaysWhy) {
   std::signal(SIGXFSZ, old_handler);
   EXPECT_EQ(message, path.string() + ": write failed: " + std::strerror(EFBIG));
   EXPECT_TRUE(fs::is_empty(root_));  // neither the file nor its temporary
+}
+
+// A job's outputs staged together: a second that fails to be written (a
+// file-size limit here, as a disk filling up on it would) leaves the first
+// unrenamed, with neither temporary; the files that were there stay.
+TEST_F(AtomicOutputTest, StagedFilesAreRenamedAllOrNone) {
+  WriteFileAtomic(root_ / "rig.yaml", "old\n");
+  rlimit old_limit{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit limit = old_limit;
+  limit.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+  std::string message = "no error";
+  try {
+    StagedFiles files;
+    files.Add(root_ / "rig.yaml", "new\n");
+    files.Add(root_ / "report.json", std::string(1 << 16, 'x'));
+    files.Commit();
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_EQ(message, (root_ / "report.json").string() + ": write failed: " + std::strerror(EFBIG));
+  std::vector<fs::path> left;
+  for (const auto& entry : fs::directory_iterator(root_)) left.push_back(entry.path());
+  EXPECT_EQ(left, std::vector<fs::path>{root_ / "rig.yaml"});
+  std::ifstream in(root_ / "rig.yaml");
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "old");
+
+  StagedFiles files;
+  files.Add(root_ / "rig.yaml", "new\n");
+  files.Add(root_ / "report.json", "{}\n");
+  EXPECT_FALSE(fs::exists(root_ / "report.json"));  // not before Commit()
+  files.Commit();
+  std::ifstream renamed(root_ / "rig.yaml");
+  std::getline(renamed, line);
+  EXPECT_EQ(line, "new");
+  EXPECT_TRUE(fs::exists(root_ / "report.json"));
 }
 
 // An output onto one of the inputs, by any path, is refused by option.
