@@ -40,25 +40,31 @@ void DistanceErrors(const std::vector<Eigen::Vector3d>& reconstructed,
 
 // Robust refit (see SurfaceAccuracy::robust_fit_rms_m). `residuals` fits
 // the shape to its first argument and returns the residuals of the second
-// under that fit, or nothing if the shape cannot be fitted.
+// under that fit, or nothing if the shape cannot be fitted; with `robust`
+// (the rounds that find the outliers) under a robust loss where the fit is
+// iterative and could be pulled into another minimum by them, as a
+// cylinder's is (kRobustLossScaleM); the final fit is plain least squares.
 using FitResiduals = std::function<std::optional<std::vector<double>>(
-    const std::vector<Eigen::Vector3d>& fit_to, const std::vector<Eigen::Vector3d>& evaluate)>;
+    const std::vector<Eigen::Vector3d>& fit_to, const std::vector<Eigen::Vector3d>& evaluate,
+    bool robust)>;
+constexpr double kOutlierGateM = 0.005;  // the gate's floor
+constexpr double kRobustLossScaleM = kOutlierGateM;
 
 void RobustFit(const std::vector<Eigen::Vector3d>& points, const FitResiduals& residuals,
                SurfaceAccuracy* out) {
   std::vector<Eigen::Vector3d> kept = points;
   for (int round = 0; round < 2; ++round) {
-    const auto all = residuals(kept, points);
+    const auto all = residuals(kept, points, /*robust=*/true);
     if (!all) return;
     std::vector<double> magnitudes;
     for (double r : *all) magnitudes.push_back(std::abs(r));
-    const double gate = std::max(5.0 * 1.4826 * Median(magnitudes), 0.005);
+    const double gate = std::max(5.0 * 1.4826 * Median(magnitudes), kOutlierGateM);
     kept.clear();
     for (size_t i = 0; i < points.size(); ++i)
       if (magnitudes[i] <= gate) kept.push_back(points[i]);
     if (static_cast<long>(kept.size()) < SurfaceAccuracy::kMinPoints) return;
   }
-  const auto final_residuals = residuals(kept, kept);
+  const auto final_residuals = residuals(kept, kept, /*robust=*/false);
   if (!final_residuals) return;
   out->robust_fitted = true;
   out->robust_fit_rms_m = Rms(*final_residuals);
@@ -166,7 +172,9 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
       RobustFit(
           reconstructed[s],
           [](const std::vector<Eigen::Vector3d>& fit_to,
-             const std::vector<Eigen::Vector3d>& evaluate) -> std::optional<std::vector<double>> {
+             const std::vector<Eigen::Vector3d>& evaluate,
+             bool /*robust: the plane's fit has one minimum*/)
+              -> std::optional<std::vector<double>> {
             const auto plane = FitPlane(fit_to);
             if (!plane) return std::nullopt;
             std::vector<double> r;
@@ -192,8 +200,10 @@ CloudAccuracy EvaluateCloud(const std::vector<CloudPoint>& cloud,
       RobustFit(
           reconstructed[s],
           [&](const std::vector<Eigen::Vector3d>& fit_to,
-              const std::vector<Eigen::Vector3d>& evaluate) -> std::optional<std::vector<double>> {
-            const auto cylinder = FitCylinder(fit_to, axis, surface.radius, towards_axis);
+              const std::vector<Eigen::Vector3d>& evaluate,
+              bool robust) -> std::optional<std::vector<double>> {
+            const auto cylinder = FitCylinder(fit_to, axis, surface.radius, towards_axis,
+                                              robust ? kRobustLossScaleM : 0.0);
             if (!cylinder) return std::nullopt;
             std::vector<double> r;
             for (const auto& p : evaluate) r.push_back(cylinder->Residual(p));

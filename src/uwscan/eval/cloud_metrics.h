@@ -29,7 +29,10 @@ struct SurfaceAccuracy {
   // The same fit without gross outliers (mixed pixels where the line jumps
   // between a surface and what is behind it, e.g. the shaft's silhouette):
   // points farther than max(5 robust sigmas (1.4826 MAD), 5 mm) from the
-  // fit are dropped and the shape refitted, twice.
+  // fit are dropped and the shape refitted, twice; a cylinder's fits that
+  // find them under a Cauchy loss at 5 mm (its least squares, iterative,
+  // can be pulled into another minimum by a few points on the hull behind).
+  // robust_fit_rms_m is of the least-squares fit to the points kept.
   bool robust_fitted = false;
   double robust_fit_rms_m = 0.0;
   long robust_outliers = 0;

@@ -68,7 +68,8 @@ struct CylinderResidual {
 
 std::optional<CylinderFit> FitCylinder(const std::vector<Eigen::Vector3d>& points,
                                        const Eigen::Vector3d& initial_direction,
-                                       double initial_radius, const Eigen::Vector3d& towards_axis) {
+                                       double initial_radius, const Eigen::Vector3d& towards_axis,
+                                       double cauchy_scale_m) {
   if (points.size() < 6 || !(initial_radius > 0)) return std::nullopt;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const auto& p : points) centroid += p;
@@ -78,8 +79,9 @@ std::optional<CylinderFit> FitCylinder(const std::vector<Eigen::Vector3d>& point
   double radius = initial_radius;
   ceres::Problem problem;
   for (const auto& p : points) {
-    problem.AddResidualBlock(CylinderResidual::Create(p), nullptr, axis_point.data(),
-                             direction.data(), &radius);
+    problem.AddResidualBlock(CylinderResidual::Create(p),
+                             cauchy_scale_m > 0 ? new ceres::CauchyLoss(cauchy_scale_m) : nullptr,
+                             axis_point.data(), direction.data(), &radius);
   }
   problem.SetManifold(direction.data(), new ceres::SphereManifold<3>());
   ceres::Solver::Options options;

@@ -33,8 +33,12 @@ struct CylinderFit {
 // Geometric least squares with Ceres from an initial axis direction and
 // radius (e.g. known roughly from the scene); the axis point starts at the
 // centroid shifted away from the points by the radius along `towards_axis`.
+// With `cauchy_scale_m` > 0 the residuals go through a Cauchy loss of that
+// scale, so that a few gross outliers do not pull the cylinder off the rest
+// (`rms` is still of all the points' plain residuals).
 std::optional<CylinderFit> FitCylinder(const std::vector<Eigen::Vector3d>& points,
                                        const Eigen::Vector3d& initial_direction,
-                                       double initial_radius, const Eigen::Vector3d& towards_axis);
+                                       double initial_radius, const Eigen::Vector3d& towards_axis,
+                                       double cauchy_scale_m = 0.0);
 
 }  // namespace uwscan
