@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "uwscan/sim/scene.h"
 
@@ -29,15 +30,20 @@ struct FloorView {
     down << 1, 0, 0, 0, -1, 0, 0, 0, -1;
     poses = {{0, Rigid3d(Eigen::Quaterniond(down), Eigen::Vector3d(0, 0, 2))}};
   }
+  // The world ray (origin, unit direction) of pixel (u, v).
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> WorldRay(double u, double v) const {
+    const auto ray = camera.BackProject(Eigen::Vector2d(u, v));
+    EXPECT_TRUE(ray.has_value());
+    const Rigid3d& pose = poses.at(0);
+    return {pose * ray->origin, pose.rotation * ray->direction};
+  }
   // The cloud point seen at pixel (u, v), `beyond` metres past the floor
   // along its ray and `up` metres above it.
   CloudPoint At(double u, double v, double beyond = 0.0, double up = 0.0) const {
-    const auto ray = camera.BackProject(Eigen::Vector2d(u, v));
-    EXPECT_TRUE(ray.has_value());
-    const double lambda = 2.0 / ray->direction.z();
+    const auto [origin, direction] = WorldRay(u, v);
+    const double lambda = 2.0 / -direction.z();  // to the floor
     CloudPoint point;
-    point.position = poses.at(0) * (ray->origin + (lambda + beyond) * ray->direction) +
-                     Eigen::Vector3d(0, 0, up);
+    point.position = origin + (lambda + beyond) * direction + Eigen::Vector3d(0, 0, up);
     return point;
   }
 };
@@ -98,18 +104,13 @@ TEST(CloudMetrics, RobustCylinderFitDropsThePointsBehindIt) {
   int outliers = 0;
   for (int v = 2; v < 238; v += 2) {
     for (int u = 2; u < 318; u += 2) {
-      const auto ray = view.camera.BackProject(Eigen::Vector2d(u, v));
-      ASSERT_TRUE(ray.has_value());
-      const Rigid3d& pose = view.poses.at(0);
-      const Eigen::Vector3d origin = pose * ray->origin;
-      const Eigen::Vector3d direction = pose.rotation * ray->direction;
+      const auto [origin, direction] = view.WorldRay(u, v);
       const auto hit = view.scene.Intersect(origin, direction);
       if (!hit) continue;
       const bool outlier = cloud.size() % 97 == 50;
       outliers += outlier;
-      CloudPoint point;
-      point.position = outlier ? origin + (2.0 / -direction.z()) * direction  // on the floor
-                               : hit->point_world + noise(rng) * hit->normal_world;
+      CloudPoint point = view.At(u, v);  // on the floor
+      if (!outlier) point.position = hit->point_world + noise(rng) * hit->normal_world;
       cloud.push_back(point);
     }
   }
