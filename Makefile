@@ -2,7 +2,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps build test demo bench sanitize format clean
+.PHONY: all deps build tool test demo bench sanitize format clean
 
 all: build
 
@@ -15,13 +15,17 @@ $(BUILD_DIR)/build.ninja:
 build: deps $(BUILD_DIR)/build.ninja
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# The command-line tool alone (what the demo runs), without the tests.
+tool: deps $(BUILD_DIR)/build.ninja
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target uwscan
+
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-demo: build
+demo: tool
 	$(BUILD_DIR)/bin/uwscan demo
 
-bench: build
+bench: tool
 	$(BUILD_DIR)/bin/uwscan bench projection
 
 # Every test under AddressSanitizer and UndefinedBehaviorSanitizer

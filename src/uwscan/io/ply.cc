@@ -17,7 +17,7 @@ namespace {
 constexpr int kCountWidth = 12;
 constexpr const char* kCountTag = "element vertex ";
 
-std::string Header(int64_t count) {
+std::string PlyHeader(int64_t count) {
   char number[32];
   std::snprintf(number, sizeof(number), "%0*lld", kCountWidth, static_cast<long long>(count));
   std::ostringstream header;
@@ -43,7 +43,7 @@ char* Put(char* out, T value) {
 
 PlyStreamWriter::PlyStreamWriter(std::filesystem::path path)
     : path_(path), file_(std::move(path), /*binary=*/true) {
-  file_.stream() << Header(0);
+  file_.stream() << PlyHeader(0);
 }
 
 void PlyStreamWriter::Add(const CloudPoint& p) {
@@ -68,7 +68,7 @@ void PlyStreamWriter::Finish() {
   if (finished_) return;
   std::ostream& out = file_.stream();
   out.seekp(0);
-  out << Header(count_);  // same length: the count has a fixed width
+  out << PlyHeader(count_);  // same length: the count has a fixed width
   file_.Finish();
   finished_ = true;
 }

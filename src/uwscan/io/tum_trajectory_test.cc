@@ -18,7 +18,7 @@ TEST(TumTrajectory, RoundTripsPosesAndGaps) {
   trajectory.poses.push_back({1.5, Rigid3d(Eigen::Quaterniond(0.5, 0.5, -0.5, 0.5),
                                            Eigen::Vector3d(1e-3, -2.25, 1.0 / 3))});
   trajectory.poses.push_back({1.6, Rigid3d()});
-  trajectory.gaps.push_back({2.0, 2.5, "too few map points tracked (3)"});
+  trajectory.gaps.emplace_back(2.0, 2.5, "too few map points tracked (3)");
   const std::string text = TumTrajectoryToText(trajectory);
   const TumTrajectory back = ParseTumTrajectory(text, "test");
   ASSERT_EQ(back.poses.size(), 2u);
