@@ -10,6 +10,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <tuple>
 
 #include "uwscan/eval/trajectory_metrics.h"
 #include "uwscan/io/rig_yaml.h"
@@ -28,24 +29,44 @@ std::string ReadFileBytes(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-// A 480x360 tank-target hover simulated into a fresh temporary folder
-// (ROOT/data), and a quiet job on it writing to ROOT/out; ROOT is
-// job.dataset.parent_path().
-// `exposure_ms`: the shutter time (none: the scenario's 6.94 ms).
-ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed,
-                              std::optional<double> exposure_ms = std::nullopt) {
-  const fs::path root =
-      fs::temp_directory_path() / ("uwscan_fusion_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(root);
+// The hovers' datasets, simulated once per test program (several tests run
+// on the same one) into a folder removed at exit, keyed by frames, seed
+// and exposure. Read only: a test that changes its dataset copies it first.
+fs::path HoverDataset(int frames, uint64_t seed, std::optional<double> exposure_ms) {
+  static const struct Folder {
+    fs::path path =
+        fs::temp_directory_path() / ("uwscan_fusion_hovers_" + std::to_string(::getpid()));
+    ~Folder() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  } folder;
+  static std::map<std::tuple<int, uint64_t, std::optional<double>>, fs::path> simulated;
+  const auto key = std::make_tuple(frames, seed, exposure_ms);
+  if (const auto found = simulated.find(key); found != simulated.end()) return found->second;
+  const fs::path dataset = folder.path / std::to_string(simulated.size());
+  fs::remove_all(dataset);
   sim::ScenarioOptions options;
   options.width = 480;
   options.height = 360;
   options.frames = frames;
   options.seed = seed;
   options.exposure_ms = exposure_ms;
-  sim::SimulateScenario("tank-target", options, root / "data");
+  sim::SimulateScenario("tank-target", options, dataset);
+  return simulated[key] = dataset;
+}
+
+// A quiet job on a 480x360 tank-target hover (HoverDataset), writing to
+// ROOT/out in a fresh temporary folder ROOT = job.out.parent_path().
+// `exposure_ms`: the shutter time (none: the scenario's 6.94 ms).
+ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed,
+                              std::optional<double> exposure_ms = std::nullopt) {
+  const fs::path root =
+      fs::temp_directory_path() / ("uwscan_fusion_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root);
   ReconstructJob job;
-  job.dataset = root / "data";
+  job.dataset = HoverDataset(frames, seed, exposure_ms);
   job.out = root / "out";
   job.quiet = true;
   return job;
@@ -131,7 +152,7 @@ TEST_P(SelfReferencedHover, CompensatesHoverMotion) {
   const SurfaceAccuracy* floor_u = evaluation.uncompensated.Surface("floor");
   ASSERT_TRUE(floor_c && floor_u);
   EXPECT_LT(floor_c->distance_error_mean_pct, 0.5 * floor_u->distance_error_mean_pct);
-  fs::remove_all(job.dataset.parent_path());
+  fs::remove_all(job.out.parent_path());
 }
 
 INSTANTIATE_TEST_SUITE_P(TrackedWidth, SelfReferencedHover, ::testing::Values(0, 240));
@@ -147,7 +168,7 @@ INSTANTIATE_TEST_SUITE_P(TrackedWidth, SelfReferencedHover, ::testing::Values(0,
 // same harm: off for the refinements' comparison, then checked on its own.
 TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) {
   ReconstructJob job = SimulatedHover("init", 160, 5);  // a slow sweep: ~15 frames held
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   job.self_referenced.surface.settled_plane_width_m = 0.0;
   // Also tracking every third frame only (track_every), in the
   // refinements too: the frames between are placed between them.
@@ -201,7 +222,7 @@ TEST(SelfReferencedPoseProvider, HeldFramesArePlacedAgainWithTheirTrackedPoses) 
 // so.
 TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
   ReconstructJob job = SimulatedHover("settle", 160, 5);
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   job.out = root / "default";
   const ReconstructReport settled = RunReconstruct(job);
   const nlohmann::json& details = settled.pose_details;
@@ -283,7 +304,7 @@ TEST(SelfReferencedPoseProvider, StartsRefusedAsTooNarrowScreenSparsely) {
   std::map<int, std::string> trajectory;
   {
     ReconstructJob job = SimulatedHover("screen5", 160, 5);
-    const fs::path root = job.dataset.parent_path();
+    const fs::path root = job.out.parent_path();
     job.track_every = 1;
     // No BA stopped by its time limit on a loaded machine: the same to the byte.
     job.self_referenced.odometry.ba.max_solver_time_s = 60.0;
@@ -300,7 +321,7 @@ TEST(SelfReferencedPoseProvider, StartsRefusedAsTooNarrowScreenSparsely) {
     fs::remove_all(root);
   }
   ReconstructJob job = SimulatedHover("screen6", 160, 6);
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   job.track_every = 1;
   std::map<int, double> point_error_mm, uncompensated_mm;
   std::map<int, int> tracked, without_pose;
@@ -332,7 +353,7 @@ TEST(SelfReferencedPoseProvider, StartsRefusedAsTooNarrowScreenSparsely) {
 // the cloud stays about as good as with every frame tracked.
 TEST(SelfReferencedPoseProvider, FramesBetweenTrackedOnesGetInterpolatedPoses) {
   ReconstructJob job = SimulatedHover("every", 80, 7);
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   std::map<int, double> point_error_mm;
   std::map<int, int> without_pose, interpolated;
   double uncompensated_mm = 0.0;
@@ -369,7 +390,7 @@ TEST(SelfReferencedPoseProvider, SkippedFramesAveragedLowerThePoseNoise) {
   // and so has their noise, which the full-size scans' tracks follow.
   const double exposure_ms = 6.944 * std::pow(480.0 / 1280.0, 2);
   ReconstructJob job = SimulatedHover("average", 160, 11, exposure_ms);
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   const auto truth = ReadTum(job.dataset / "groundtruth.tum");
   job.track_every = 2;
   std::map<bool, TrajectoryMetrics> metrics;
@@ -408,7 +429,7 @@ TEST(SelfReferencedPoseProvider, SkippedFramesAveragedLowerThePoseNoise) {
 // without the scene the option is a clear error.
 TEST(SelfReferencedPoseProvider, OracleDepthsComeFromTheSimulatorsTruth) {
   ReconstructJob job = SimulatedHover("oracle", 60, 8);
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   job.out = root / "surface";
   RunReconstruct(job);
   const double surface_mm =
@@ -424,6 +445,9 @@ TEST(SelfReferencedPoseProvider, OracleDepthsComeFromTheSimulatorsTruth) {
               surface_mm, oracle_mm);
   EXPECT_LT(oracle_mm, 1.5 * surface_mm);
   EXPECT_LT(oracle_mm, 0.5 * 1e3 * evaluation.uncompensated.point_error_rms_m);
+  // Without the scene (in a copy: the hover's dataset is shared).
+  fs::copy(job.dataset, root / "no_scene_data", fs::copy_options::recursive);
+  job.dataset = root / "no_scene_data";
   fs::remove(job.dataset / "scene.yaml");
   job.out = root / "no_scene";
   try {
@@ -442,7 +466,7 @@ TEST(SelfReferencedPoseProvider, OracleDepthsComeFromTheSimulatorsTruth) {
 // tracks of the images, and the option names itself in the report.
 TEST(SelfReferencedPoseProvider, OracleTracksRemoveTheTrackingError) {
   ReconstructJob job = SimulatedHover("oracle_tracks", 80, 9);
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   const auto truth = ReadTum(job.dataset / "groundtruth.tum");
   std::map<bool, TrajectoryMetrics> metrics;
   for (const bool oracle : {false, true}) {
@@ -523,7 +547,7 @@ TEST(SelfReferencedPoseProvider, RawPosesComeWithTheirFrame) {
   }
   EXPECT_LT(worst_mm, 10.0);
   EXPECT_GT(worst_mm, 0.0);  // smoothed: not the raw poses themselves
-  fs::remove_all(job.dataset.parent_path());
+  fs::remove_all(job.out.parent_path());
 }
 
 // Forwards to a provider, with or without its preparation ahead, counting
@@ -556,7 +580,7 @@ class Forwarding : public PoseProvider {
 // prepared, still to the same result.
 TEST(SelfReferencedPoseProvider, FramesPreparedAheadGiveTheSameResult) {
   ReconstructJob job = SimulatedHover("ahead", 50, 9);
-  const fs::path root = job.dataset.parent_path();
+  const fs::path root = job.out.parent_path();
   const Camera camera = ReadRigYaml(job.dataset / "rig.yaml").cameras.front();
   for (const auto& [width, every] : {std::pair{640, 1}, {240, 1}, {640, 2}}) {
     job.self_referenced.max_tracking_width = width;
