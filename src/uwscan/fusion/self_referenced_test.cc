@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <optional>
 #include <tuple>
@@ -17,17 +15,13 @@
 #include "uwscan/io/tum.h"
 #include "uwscan/pipeline/evaluate_reconstruction.h"
 #include "uwscan/pipeline/reconstruct.h"
+#include "uwscan/pipeline/testing.h"
 #include "uwscan/sim/simulate.h"
 #include "uwscan/util/error.h"
 
 namespace uwscan::fusion {
 namespace {
 namespace fs = std::filesystem;
-
-std::string ReadFileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // The hovers' datasets, simulated once per test program (several tests run
 // on the same one) into a folder removed at exit, keyed by frames, seed
@@ -46,11 +40,7 @@ fs::path HoverDataset(int frames, uint64_t seed, std::optional<double> exposure_
   if (const auto found = simulated.find(key); found != simulated.end()) return found->second;
   const fs::path dataset = folder.path / std::to_string(simulated.size());
   fs::remove_all(dataset);
-  sim::ScenarioOptions options;
-  options.width = 480;
-  options.height = 360;
-  options.frames = frames;
-  options.seed = seed;
+  sim::ScenarioOptions options = pipeline_testing::ScanOptions(480, 360, frames, seed);
   options.exposure_ms = exposure_ms;
   sim::SimulateScenario("tank-target", options, dataset);
   return simulated[key] = dataset;
@@ -314,7 +304,7 @@ TEST(SelfReferencedPoseProvider, StartsRefusedAsTooNarrowScreenSparsely) {
       const ReconstructReport report = RunReconstruct(job);
       EXPECT_EQ(report.start_screen_every, every);
       EXPECT_EQ(report.pose_details["start_attempts_refused"].get<int>(), 0);
-      trajectory[every] = ReadFileBytes(job.out / "trajectory.tum");
+      trajectory[every] = pipeline_testing::FileBytes(job.out / "trajectory.tum");
     }
     EXPECT_GT(std::count(trajectory[1].begin(), trajectory[1].end(), '\n'), 100);
     EXPECT_EQ(trajectory[4], trajectory[1]);
@@ -594,8 +584,8 @@ TEST(SelfReferencedPoseProvider, FramesPreparedAheadGiveTheSameResult) {
                      std::make_unique<Forwarding>(std::make_unique<SelfReferencedPoseProvider>(
                                                       camera, laser::kGreen, job.self_referenced),
                                                   ahead, &prepared[ahead]));
-      trajectory[ahead] = ReadFileBytes(job.out / "trajectory.tum");
-      cloud[ahead] = ReadFileBytes(job.out / "cloud.ply");
+      trajectory[ahead] = pipeline_testing::FileBytes(job.out / "trajectory.tum");
+      cloud[ahead] = pipeline_testing::FileBytes(job.out / "cloud.ply");
     }
     std::printf("tracking width %d, every %d: %d of 50 frames prepared ahead\n", width, every,
                 prepared[true]);
