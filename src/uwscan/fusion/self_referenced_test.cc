@@ -1,7 +1,6 @@
 #include "uwscan/fusion/self_referenced.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,8 +27,7 @@ namespace fs = std::filesystem;
 // and exposure. Read only: a test that changes its dataset copies it first.
 fs::path HoverDataset(int frames, uint64_t seed, std::optional<double> exposure_ms) {
   static const struct Folder {
-    fs::path path =
-        fs::temp_directory_path() / ("uwscan_fusion_hovers_" + std::to_string(::getpid()));
+    fs::path path = pipeline_testing::TempFolder("fusion_hovers");
     ~Folder() {
       std::error_code ignored;
       fs::remove_all(path, ignored);
@@ -51,9 +49,7 @@ fs::path HoverDataset(int frames, uint64_t seed, std::optional<double> exposure_
 // `exposure_ms`: the shutter time (none: the scenario's 6.94 ms).
 ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed,
                               std::optional<double> exposure_ms = std::nullopt) {
-  const fs::path root =
-      fs::temp_directory_path() / ("uwscan_fusion_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(root);
+  const fs::path root = pipeline_testing::TempFolder("fusion_" + name);
   fs::create_directories(root);
   ReconstructJob job;
   job.dataset = HoverDataset(frames, seed, exposure_ms);
@@ -73,14 +69,9 @@ ReconstructJob SimulatedHover(const std::string& name, int frames, uint64_t seed
 // never span the sea floor's plane, so no frame ever got a pose; placed
 // where a plain odometry of the held frames puts them, they do at once.
 TEST(SelfReferencedPoseProvider, AShortTransectWithAFixedLaserStarts) {
-  const fs::path root =
-      fs::temp_directory_path() / ("uwscan_fusion_transect_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  sim::ScenarioOptions options;
-  options.width = 640;
-  options.height = 480;
-  options.frames = 600;
-  options.seed = 23;  // a sea floor whose relief gives the stacked profiles no plane
+  const fs::path root = pipeline_testing::TempFolder("fusion_transect");
+  // Seed 23: a sea floor whose relief gives the stacked profiles no plane.
+  sim::ScenarioOptions options = pipeline_testing::ScanOptions(640, 480, 600, 23);
   options.turbidity = "coastal";
   sim::Scenario scenario = sim::MakeScenario("seabed-transect", options);
   scenario.frames = 40;  // the first 2 m at the 600-frame rate
