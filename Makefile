@@ -2,7 +2,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps build tool test demo bench sanitize format clean
+.PHONY: all deps build tool test demo bench sanitize tsan format clean
 
 all: build
 
@@ -32,6 +32,11 @@ bench: tool
 # (build-sanitize/; some 45 min on 2 cores, so not part of `make test`).
 sanitize: deps
 	bash scripts/sanitize.sh
+
+# The tool's threads under ThreadSanitizer on small simulated scans
+# (build-tsan/; some 10 min on 2 cores).
+tsan: deps
+	bash scripts/tsan.sh
 
 format:
 	clang-format -i $$(git ls-files '*.cc' '*.h')
