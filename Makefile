@@ -34,7 +34,7 @@ sanitize: deps
 	bash scripts/sanitize.sh
 
 # The tool's threads under ThreadSanitizer on small simulated scans
-# (build-tsan/; some 10 min on 2 cores).
+# (build-tsan/; some 5 min on 2 cores).
 tsan: deps
 	bash scripts/tsan.sh
 

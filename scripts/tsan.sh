@@ -4,7 +4,7 @@
 # simulator's render threads and PNG writer, the reconstruction's reading
 # thread and windowed BA thread, a live replay that drops frames, two
 # cameras with two passes, and an external trajectory with the BA on the
-# tracking thread: `make tsan`. Takes about 10 min on 2 cores. Stops at
+# tracking thread: `make tsan`. Takes about 5 min on 2 cores. Stops at
 # the first command whose run ThreadSanitizer reports on (exit status 66).
 #
 # The board detection of `calibrate` is left out: OpenCV runs it on its TBB
