@@ -37,7 +37,6 @@ fs::path HoverDataset(int frames, uint64_t seed, std::optional<double> exposure_
   const auto key = std::make_tuple(frames, seed, exposure_ms);
   if (const auto found = simulated.find(key); found != simulated.end()) return found->second;
   const fs::path dataset = folder.path / std::to_string(simulated.size());
-  fs::remove_all(dataset);
   sim::ScenarioOptions options = pipeline_testing::ScanOptions(480, 360, frames, seed);
   options.exposure_ms = exposure_ms;
   sim::SimulateScenario("tank-target", options, dataset);
