@@ -132,8 +132,7 @@ void RegisterReconstructCommand(CLI::App& app) {
       cmd->add_option("--max-tracking-width", job->self_referenced.max_tracking_width,
                       "the odometry tracks the image halved until it is at most this wide, but "
                       "not below 160 px (0 = full resolution); not given, a one-pass run whose "
-                      "start does not settle at all (turbid water) runs again tracking half the "
-                      "image")
+                      "start does not settle (turbid water) runs again tracking half the image")
           ->capture_default_str();
   cmd->add_option("--track-every", *track_every,
                   "the odometry tracks every Nth frame once running; the frames between get "

@@ -215,6 +215,7 @@ ReconstructReport RunPass(const ReconstructJob& job, std::unique_ptr<fusion::Pos
         ResolveAsyncBundleAdjustment(job.async_bundle_adjustment, frames);
     report.async_bundle_adjustment = options.odometry.async_bundle_adjustment;
     const bool sweeps = LaserSweeps(frames);
+    report.laser_sweeps = sweeps;
     options.use_line_ranges = job.line_ranges.value_or(!sweeps);
     options.contrast_sigma_fraction =
         job.contrast_scale.value_or(sweeps ? 0.0 : ReconstructJob::kFixedLaserContrastScale);
@@ -514,14 +515,13 @@ ReconstructReport RunReconstruct(const ReconstructJob& job,
     }
     return report;
   }
-  // The first pass is the last, and its start did not hold the scene
-  // still: once more on a smaller tracked image, whose outputs replace the
-  // first attempt's. (Where more passes follow, they start again on the
-  // surface the first measured over the whole scan, and a hull's shaft
-  // needs the full image: on the simulator's hulls, whose first start
-  // often moves a few centimetres, half the image made the shaft worse on
-  // 4 of the 5 it took; BENCHMARKS.md, "The run on half the image and the
-  // hulls".)
+  // The first pass is the last, and its start had not settled: once more
+  // on a smaller tracked image, whose outputs replace the first attempt's.
+  // (Where more passes follow, they start again on the surface the first
+  // measured over the whole scan, and a hull's shaft needs the full image:
+  // on the simulator's hulls, whose first start often moves a few
+  // centimetres, half the image made the shaft worse on 4 of the 5 it
+  // took; BENCHMARKS.md, "The run on half the image and the hulls".)
   const std::optional<int> width = report.SmallerTrackingWidth();
   if (!width || !job.retry_smaller_tracking) return report;
   ReconstructJob smaller = job;

@@ -129,11 +129,15 @@ struct ReconstructJob {
   double passes_settled_m = 0.002;  // as the start's refinements settle
   double passes_settled_deg = 0.05;
   double passes_converging_ratio = 0.7;
-  // A first pass whose start had not settled by ten times its tolerance
-  // (faint, noisy features: turbid water) on a tracked image 640 px wide
-  // or more is run again tracking half of it, which averages more of the
-  // sensor's noise in each KLT window (ReconstructReport::
-  // SmallerTrackingWidth; BENCHMARKS.md, "Turbid water, measured again"),
+  // A first pass whose start had not settled (faint, noisy features:
+  // turbid water; with a fixed laser, whose held frames span the
+  // platform's own motion, or a surface in front, only a start far from
+  // settled) on a tracked image 640 px wide or more is run again tracking
+  // half of it,
+  // which averages more of the sensor's noise in each KLT window
+  // (ReconstructReport::SmallerTrackingWidth; BENCHMARKS.md, "Turbid
+  // water, measured again", "Turbid hovers: a start still moving runs
+  // again on half the image"),
   // if no more passes follow (a hull's shaft needs the full image). The
   // CLI turns it off when --max-tracking-width is given.
   bool retry_smaller_tracking = true;
@@ -246,6 +250,7 @@ struct ReconstructReport {
   // match with a frame before them (the rest take the profile's depth).
   long texture_epipolar_matches = 0;
   bool line_ranges = false;     // whether the odometry used them
+  bool laser_sweeps = false;    // a servo sweeps the laser (else it is fixed on the platform)
   double contrast_scale = 0.0;  // the odometry's, as used (ReconstructJob::contrast_scale)
   double log_offset = 0.0;      // SelfReferencedOptions::log_offset_fraction, as used
   long albedo_edge_points = 0;  // line points dropped on an albedo edge
@@ -353,8 +358,10 @@ struct ReconstructReport {
   // tracking losses, rejected poses.
   std::vector<std::string> Warnings() const;
   // Half the odometry's tracked image width if its start had not settled
-  // by ten times its tolerance and that half is at least 320 px (the
-  // narrowest it tracks); none otherwise.
+  // (on a servo sweep of a scene with no surface in front, its poses still
+  // moving by more than their tolerance; else by more than ten times it)
+  // and that half is at least 320 px (the narrowest it tracks); none
+  // otherwise.
   std::optional<int> SmallerTrackingWidth() const;
   nlohmann::json ToJson() const;
 };

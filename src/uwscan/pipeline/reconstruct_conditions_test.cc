@@ -27,13 +27,15 @@ using namespace pipeline_testing;
 // The tracks' residuals under a robust loss at their noise (Huber at
 // 0.3 px of the tracked image, fusion::SelfReferencedOdometryOptions)
 // instead of the 1.5 px before. In c_p 0.8 water the tracks' error has a
-// heavy tail that 1.5 px weighed fully: there the start at 640 px did not
-// settle and the scale came out a third off (0.655); at the tracks' noise
-// it settles and the trajectory is metric (0.973; BENCHMARKS.md, "A
-// robust loss at the tracks' noise"). Both on the linear tracked image the
-// loss was chosen on: in logarithm (the default) this hover's start at
-// 640 px does not settle (0.874 here; by default it is then retried at
-// 320 px, 1.055), BENCHMARKS.md, "The tracked image in logarithm".
+// heavy tail that 1.5 px weighed fully: there the start at 640 px stayed
+// far from settled and the scale came out a third off (0.655); at the
+// tracks' noise it comes within ten times its tolerance (15.9 mm) and the
+// trajectory is metric (0.973; BENCHMARKS.md, "A robust loss at the
+// tracks' noise"). Still moving on a servo sweep, both ask for half the
+// image, which the default runs (retry off but in the last run). Both on the linear tracked image
+// the loss was chosen on: in logarithm (the default) this hover's start at 640 px does not settle
+// (0.874 here; by default it is then retried at 320 px, 1.055), BENCHMARKS.md, "The tracked image
+// in logarithm".
 TEST(ReconstructTurbid, ARobustLossAtTheTracksNoiseSettlesTheStart) {
   const fs::path root = TempFolder("turbid_loss");
   sim::ScenarioOptions options = ScanOptions(640, 480, 100, 5);
@@ -65,9 +67,30 @@ TEST(ReconstructTurbid, ARobustLossAtTheTracksNoiseSettlesTheStart) {
   EXPECT_LT(std::abs(at_noise.alignment.scale - 1.0), 0.03);
   EXPECT_GT(std::abs(at_1_5.alignment.scale - 1.0), 0.1);
   EXPECT_LT(at_noise.ate_rmse_m, 0.5 * at_1_5.ate_rmse_m);
-  // The settled start asks for no smaller image; the other one does.
-  EXPECT_FALSE(robust.SmallerTrackingWidth().has_value());
+  // The robust loss's start is not far from settled; the other one is.
+  // Both still move on a servo sweep: both ask for half the image.
+  const auto far = [](const ReconstructReport& report) {
+    const auto warnings = report.Warnings();
+    return std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+      return w.find("the whole trajectory rests on that start") != std::string::npos;
+    });
+  };
+  EXPECT_FALSE(far(robust));
+  EXPECT_TRUE(far(wide));
+  EXPECT_TRUE(robust.laser_sweeps);
+  EXPECT_EQ(robust.SmallerTrackingWidth(), 320);
   EXPECT_EQ(wide.SmallerTrackingWidth(), 320);
+  // By default the robust loss's run goes again on half the image, and its
+  // trajectory comes nearer the truth (8.2 -> 2.2 mm here; BENCHMARKS.md,
+  // "Turbid hovers: a start still moving runs again on half the image").
+  job.retry_smaller_tracking = true;
+  const auto [again, at_half] = run("again", false);
+  std::printf("the same run again on half the image: Sim(3) scale %.3f, ATE %.1f mm\n",
+              at_half.alignment.scale, 1e3 * at_half.ate_rmse_m);
+  EXPECT_EQ(again.tracking_retried_from_width, 640);
+  EXPECT_EQ(again.pose_details.value("tracked_image_width", 0), 320);
+  EXPECT_LT(at_half.ate_rmse_m, 0.5 * at_noise.ate_rmse_m);
+  EXPECT_LT(std::abs(at_half.alignment.scale - 1.0), 0.03);
   fs::remove_all(root);
 }
 

@@ -18,8 +18,8 @@ namespace uwscan {
 namespace {
 
 // A start whose poses still move by more than this many times the
-// tolerance they settle within did not hold the scene still
-// (BENCHMARKS.md, "Turbid water, measured again").
+// tolerance they settle within did not hold the scene still, and the whole
+// trajectory may be off (BENCHMARKS.md, "Turbid water, measured again").
 constexpr double kFarFromSettled = 10.0;
 
 // How far the start's poses still moved and turned at its last measured
@@ -28,6 +28,7 @@ constexpr double kFarFromSettled = 10.0;
 struct UnsettledStart {
   std::optional<double> moved_mm, turned_deg;
   double within_mm = 0.0, within_deg = 0.0;
+  bool Moving() const { return moved_mm && *moved_mm > within_mm; }
   bool Far() const { return moved_mm && *moved_mm > kFarFromSettled * within_mm; }
 };
 std::optional<UnsettledStart> FindUnsettledStart(const nlohmann::json& pose_details) {
@@ -46,7 +47,18 @@ std::optional<UnsettledStart> FindUnsettledStart(const nlohmann::json& pose_deta
 std::optional<int> ReconstructReport::SmallerTrackingWidth() const {
   const std::optional<UnsettledStart> start = FindUnsettledStart(pose_details);
   const int half = pose_details.is_object() ? pose_details.value("tracked_image_width", 0) / 2 : 0;
-  if (!start || !start->Far() || half < 320) return std::nullopt;
+  if (!start || half < 320) return std::nullopt;
+  // On a servo sweep the platform hovers while the frames are held: a
+  // start still moving is the tracks' noise (turbid water), which half the
+  // image averages (BENCHMARKS.md, "Turbid hovers: a start still moving
+  // runs again on half the image"). With a fixed laser the held frames
+  // span the platform's own motion, and a start a few millimetres from
+  // settled is not the tracks' doing (a short transect came out worse on
+  // half the image); a surface in front of the main one (a shaft before a
+  // hull) needs the full image. There only a start far from settled runs
+  // again.
+  const bool hover = laser_sweeps && !surface_in_front;
+  if (!(hover ? start->Moving() : start->Far())) return std::nullopt;
   return half;
 }
 
@@ -261,24 +273,28 @@ std::vector<std::string> ReconstructReport::Warnings() const {
         "again on the surface measured over the whole scan (--passes auto)");
   }
   if (const std::optional<UnsettledStart> start = FindUnsettledStart(pose_details)) {
+    // A smaller tracked image averages more of the sensor's noise in each
+    // KLT window: on the simulator's 640x480 hovers in water of c_p
+    // 0.5-0.8 every start still moving by 4-20 mm at 640 px settled at 320
+    // px, with the trajectory's error 1.5-2.9x lower, and far from settled
+    // at c_p 0.7-1.0 five of six came back from 0.05-0.56 of their true
+    // scale to 0.85-1.07 (RunReconstruct does so by itself unless
+    // --max-tracking-width was given; BENCHMARKS.md, "Turbid water,
+    // measured again", "Turbid hovers: a start still moving runs again on
+    // half the image").
+    const std::optional<int> half = SmallerTrackingWidth();
+    const std::string smaller =
+        half ? fmt::format(
+                   "; a smaller tracked image averages more of the sensor's noise: try "
+                   "--max-tracking-width {}",
+                   *half)
+             : "";
     // Far from settled, the held frames' tracks do not hold the scene still
     // (faint, noisy features), and every later pose rests on that start: in
     // turbid water the simulator's hovers came out at 0.05-0.56 of their
     // true scale above 10x the tolerance. Below it they may still be far
     // off (BENCHMARKS.md, "Turbid water, measured again").
     if (start->Far()) {
-      // A smaller tracked image averages more of the sensor's noise in each
-      // KLT window: the simulator's 640x480 hovers in water of c_p 0.7-1.0
-      // tracked at 320 px came out at 0.85-1.07 of their true scale on
-      // five of six, against 0.05-0.56 at 640 (RunReconstruct does so by
-      // itself unless --max-tracking-width was given).
-      const std::optional<int> half = SmallerTrackingWidth();
-      const std::string smaller =
-          half ? fmt::format(
-                     "; a smaller tracked image averages more of the sensor's noise: try "
-                     "--max-tracking-width {}",
-                     *half)
-               : "";
       warnings.push_back(fmt::format(
           "the frames held at the start had not settled after {} refinements: their poses "
           "still moved {:.1f} mm rms, more than ten times the {:g} mm they settle within: the "
@@ -304,8 +320,8 @@ std::vector<std::string> ReconstructReport::Warnings() const {
           "the frames held at the start had not settled after {} refinements (their poses still "
           "moved {:.1f} mm{} rms): the start of the trajectory may be off, and with it the rest "
           "(a sweep too fast or too short for the scene's plane, or features too faint or noisy "
-          "to track: turbid water, a dark scene; --max-init-refinements)",
-          count("start_refinements"), *start->moved_mm, turned));
+          "to track: turbid water, a dark scene; --max-init-refinements){}",
+          count("start_refinements"), *start->moved_mm, turned, smaller));
     }
   }
   if (!tracking_retry_failed.empty()) {
@@ -399,6 +415,7 @@ nlohmann::json ReconstructReport::ToJson() const {
       {"static_candidates_ignored", static_detections_removed},
       {"texture_candidates_matched_epipolar", texture_epipolar_matches},
       {"line_ranges", line_ranges},
+      {"laser_sweeps", laser_sweeps},
       {"contrast_scale", contrast_scale},
       {"log_offset", log_offset},
       {"points_dropped_on_albedo_edges", albedo_edge_points},

@@ -180,7 +180,9 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
 
   // A start that had not settled: a few millimetres off may only bend the
   // start; ten times the tolerance off, the features did not hold the
-  // scene still and the whole trajectory may be off (turbid water).
+  // scene still and the whole trajectory may be off (turbid water). On a
+  // servo sweep either way a tracked image that can be halved is run again
+  // on half of it.
   ReconstructReport unsettled = good;
   unsettled.pose_details["start_settled"] = false;
   unsettled.pose_details["start_refinements"] = 3;
@@ -220,11 +222,38 @@ TEST(ReconstructReportTest, WarningsSayWhatDegradedTheResult) {
   EXPECT_TRUE(says(unsettled, 0,
                    "better); a smaller tracked image averages more of the "
                    "sensor's noise: try --max-tracking-width 320"));
-  unsettled.pose_details["start_last_change_mm"] = 19.3;  // near settled: a sweep, maybe
+  // With a fixed laser the held frames span the platform's motion: near
+  // settled, no smaller image.
+  unsettled.pose_details["start_last_change_mm"] = 19.3;
+  EXPECT_FALSE(unsettled.laser_sweeps);
   EXPECT_EQ(unsettled.Warnings()[0].find("--max-tracking-width"), std::string::npos);
-  // Far from settled on a tracked image that can be halved: run again on
-  // half of it (not below 320 px).
-  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);  // 19.3 mm
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
+  // On a servo sweep (the platform hovers) a start still moving by more
+  // than its tolerance is the tracks' noise: said, and run again on half
+  // the image (not below 320 px).
+  unsettled.laser_sweeps = true;
+  EXPECT_TRUE(says(unsettled, 0,
+                   "(their poses still moved 19.3 mm rms): the start of the trajectory may be "
+                   "off"));
+  EXPECT_TRUE(says(unsettled, 0,
+                   "--max-init-refinements); a smaller tracked image averages more of the "
+                   "sensor's noise: try --max-tracking-width 320"));
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), 320);  // 19.3 mm
+  unsettled.pose_details["start_last_change_mm"] = 2.5;
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), 320);
+  EXPECT_EQ(unsettled.ToJson()["laser_sweeps"], true);
+  // Within its 2 mm (still turning, say): not moving, no run again.
+  unsettled.pose_details["start_last_change_mm"] = 1.9;
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
+  EXPECT_EQ(unsettled.Warnings()[0].find("--max-tracking-width"), std::string::npos);
+  // A surface in front (a shaft before a hull) needs the full image: only
+  // far from settled.
+  unsettled.pose_details["start_last_change_mm"] = 19.3;
+  unsettled.surface_in_front = true;
+  EXPECT_EQ(unsettled.SmallerTrackingWidth(), std::nullopt);
+  unsettled.surface_in_front = false;
+  unsettled.laser_sweeps = false;
+  // Far from settled, with either laser: run again on half the image.
   unsettled.pose_details["start_last_change_mm"] = 22.2;
   EXPECT_EQ(unsettled.SmallerTrackingWidth(), 320);
   unsettled.pose_details["tracked_image_width"] = 1280;
