@@ -133,13 +133,12 @@ struct ReconstructJob {
   // turbid water; with a fixed laser, whose held frames span the
   // platform's own motion, or a surface in front, only a start far from
   // settled) on a tracked image 640 px wide or more is run again tracking
-  // half of it,
-  // which averages more of the sensor's noise in each KLT window
-  // (ReconstructReport::SmallerTrackingWidth; BENCHMARKS.md, "Turbid
-  // water, measured again", "Turbid hovers: a start still moving runs
-  // again on half the image"),
-  // if no more passes follow (a hull's shaft needs the full image). The
-  // CLI turns it off when --max-tracking-width is given.
+  // half of it, which averages more of the sensor's noise in each KLT
+  // window (ReconstructReport::SmallerTrackingWidth; BENCHMARKS.md,
+  // "Turbid water, measured again", "Turbid hovers: a start still moving
+  // runs again on half the image"), if no more passes follow (a hull's
+  // shaft needs the full image). The CLI turns it off when
+  // --max-tracking-width is given.
   bool retry_smaller_tracking = true;
   // The odometry tracks every Nth frame once running and places the frames
   // between between them (SelfReferencedOptions::track_every, which this

@@ -32,10 +32,11 @@ using namespace pipeline_testing;
 // tracks' noise it comes within ten times its tolerance (15.9 mm) and the
 // trajectory is metric (0.973; BENCHMARKS.md, "A robust loss at the
 // tracks' noise"). Still moving on a servo sweep, both ask for half the
-// image, which the default runs (retry off but in the last run). Both on the linear tracked image
-// the loss was chosen on: in logarithm (the default) this hover's start at 640 px does not settle
-// (0.874 here; by default it is then retried at 320 px, 1.055), BENCHMARKS.md, "The tracked image
-// in logarithm".
+// image, which the default runs (retry off but in the last run). Both on
+// the linear tracked image the loss was chosen on: in logarithm (the
+// default) this hover's start at 640 px does not settle (0.874 here; by
+// default it is then retried at 320 px, 1.055), BENCHMARKS.md, "The
+// tracked image in logarithm".
 TEST(ReconstructTurbid, ARobustLossAtTheTracksNoiseSettlesTheStart) {
   const fs::path root = TempFolder("turbid_loss");
   sim::ScenarioOptions options = ScanOptions(640, 480, 100, 5);
