@@ -241,10 +241,7 @@ TEST(SelfReferencedPoseProvider, RefinementsGoOnUntilTheHeldPosesSettle) {
   EXPECT_EQ(details["start_attempts_refused_unsettled"].get<int>(), 0);
   EXPECT_GT(unconverged.pose_details["start_attempts_refused"].get<int>(),
             details["start_attempts_refused"].get<int>());
-  const std::vector<std::string> warnings = unconverged.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("had not settled after 4 refinements") != std::string::npos;
-  }));
+  EXPECT_TRUE(pipeline_testing::Warns(unconverged, {"had not settled after 4 refinements"}));
   // With no such refusal allowed, the first diverging start is taken, as
   // it was before there were any.
   job.out = root / "unconverged_taken";

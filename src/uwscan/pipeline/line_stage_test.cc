@@ -137,10 +137,7 @@ TEST(ReconstructSweepFilter, StaticCandidatesOfAPaintedStripeAreIgnored) {
   job.out = root / "filtered";
   const ReconstructReport report = RunReconstruct(job);
   EXPECT_GT(report.frames_with_static_detections, 20);
-  const std::vector<std::string> warnings = report.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("stayed put") != std::string::npos;
-  }));
+  EXPECT_TRUE(Warns(report, {"stayed put"}));
   const auto filtered = EvaluateReconstruction(job.dataset, job.out);
   EXPECT_LT(filtered.compensated.point_error_rms_m, 0.003);
   EXPECT_GT(report.points, 40 * 150);
@@ -169,10 +166,7 @@ TEST(ReconstructMarineSnow, FloodLitParticlesAreNotTakenForTheLine) {
   const ReconstructReport dropped = RunReconstruct(job);
   EXPECT_GT(dropped.off_colour_points, 50);
   EXPECT_GT(dropped.frames_with_off_colour, 5);
-  const auto warnings = dropped.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("colour signature") != std::string::npos;
-  }));
+  EXPECT_TRUE(Warns(dropped, {"colour signature"}));
   const auto clean = EvaluateReconstruction(job.dataset, job.out);
   EXPECT_GT(dropped.points, 40 * 60);
   EXPECT_LT(clean.compensated.point_error_rms_m, 0.01);
@@ -261,10 +255,7 @@ TEST(ReconstructSampleBits, TwelveBitFramesSavedUnpackedAreScaledUp) {
   const ReconstructReport as_stored = RunReconstruct(job);
   EXPECT_EQ(as_stored.first_frame.file, job.dataset / "frames/000000.png");
   EXPECT_EQ(as_stored.first_frame.low_sample_bits, 12);
-  const std::vector<std::string> warnings = as_stored.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("give --sample-bits 12") != std::string::npos;
-  }));
+  EXPECT_TRUE(Warns(as_stored, {"give --sample-bits 12"}));
 
   job.out = root / "scaled";
   job.sample_bits = 12;

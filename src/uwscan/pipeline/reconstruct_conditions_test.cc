@@ -71,10 +71,7 @@ TEST(ReconstructTurbid, ARobustLossAtTheTracksNoiseSettlesTheStart) {
   // The robust loss's start is not far from settled; the other one is.
   // Both still move on a servo sweep: both ask for half the image.
   const auto far = [](const ReconstructReport& report) {
-    const auto warnings = report.Warnings();
-    return std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-      return w.find("the whole trajectory rests on that start") != std::string::npos;
-    });
+    return Warns(report, {"the whole trajectory rests on that start"});
   };
   EXPECT_FALSE(far(robust));
   EXPECT_TRUE(far(wide));
@@ -130,21 +127,15 @@ TEST(ReconstructTurbid, AStartThatDoesNotSettleRunsAgainOnHalfTheImage) {
   // suggests the smaller image.
   EXPECT_EQ(once.tracking_retried_from_width, 0);
   EXPECT_EQ(once.SmallerTrackingWidth(), 320);
-  const auto once_warnings = once.Warnings();
-  EXPECT_TRUE(std::any_of(once_warnings.begin(), once_warnings.end(), [](const std::string& w) {
-    return w.find("the whole trajectory rests on that start") != std::string::npos &&
-           w.find("try --max-tracking-width 320") != std::string::npos;
-  }));
+  EXPECT_TRUE(
+      Warns(once, {"the whole trajectory rests on that start", "try --max-tracking-width 320"}));
   // With it: half the image, said in the report, and a scale nearer the truth.
   EXPECT_EQ(again.tracking_retried_from_width, 640);
   EXPECT_EQ(again.pose_details.value("tracked_image_width", 0), 320);
   EXPECT_GT(again.retried_start_change_mm, 20.0);
   EXPECT_GT(again.seconds_earlier_passes, 0.0);
   EXPECT_FALSE(again.SmallerTrackingWidth().has_value());
-  const auto warnings = again.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("the odometry ran again at 320 px") != std::string::npos;
-  }));
+  EXPECT_TRUE(Warns(again, {"the odometry ran again at 320 px"}));
   const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
   EXPECT_EQ(json["tracking_retried_from_width"], 640);
   EXPECT_LT(std::abs(again_scale - 1.0), 0.5 * std::abs(once_scale - 1.0));
@@ -167,10 +158,7 @@ TEST(ReconstructTurbid, AStartThatDoesNotSettleRunsAgainOnHalfTheImage) {
   EXPECT_EQ(FileBytes(job.out / "trajectory.tum"), FileBytes(root / "once" / "trajectory.tum"));
   const nlohmann::json failed_json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
   EXPECT_EQ(failed_json["tracking_retry_failed"], failed.tracking_retry_failed);
-  const auto failed_warnings = failed.Warnings();
-  EXPECT_TRUE(std::any_of(failed_warnings.begin(), failed_warnings.end(), [](const std::string& w) {
-    return w.find("these outputs are the first run's") != std::string::npos;
-  }));
+  EXPECT_TRUE(Warns(failed, {"these outputs are the first run's"}));
   for (const auto& entry : fs::directory_iterator(job.out))
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
   fs::remove_all(root);
@@ -192,11 +180,8 @@ TEST(ReconstructClipping, AMonoCameraAtAColourCamerasExposureSaysTheSceneClips) 
   EXPECT_EQ(report.frames_features_clipping_examined, 0);
   EXPECT_EQ(report.features_colour, "");
   EXPECT_GT(report.clipped_samples, report.clipping_samples_examined / 100);
-  const std::vector<std::string> warnings = report.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("at full scale in the laser's colour") != std::string::npos &&
-           w.find("lower the camera's exposure or gain") != std::string::npos;
-  }));
+  EXPECT_TRUE(Warns(
+      report, {"at full scale in the laser's colour", "lower the camera's exposure or gain"}));
   const nlohmann::json json = nlohmann::json::parse(std::ifstream(job.out / "report.json"));
   EXPECT_EQ(json["frames_with_clipped_scene"], report.frames_with_clipped_scene);
   EXPECT_GT(json["clipped_scene_share"].get<double>(), 0.01);
@@ -223,12 +208,8 @@ TEST(ReconstructClipping, AnExposureThatClipsTheFeaturesColourIsReported) {
   EXPECT_EQ(bright.frames_features_clipping_examined, 12);
   EXPECT_EQ(bright.frames_with_clipped_features, 12);
   EXPECT_GT(bright.ClippedFeaturesShare(), 0.2);
-  const std::vector<std::string> warnings = bright.Warnings();
-  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("the features' colour (red, lit by the floods) is at full scale") !=
-               std::string::npos &&
-           w.find("lower the camera's exposure or gain") != std::string::npos;
-  }));
+  EXPECT_TRUE(Warns(bright, {"the features' colour (red, lit by the floods) is at full scale",
+                             "lower the camera's exposure or gain"}));
   const nlohmann::json json = nlohmann::json::parse(std::ifstream(root / "out4" / "report.json"));
   EXPECT_EQ(json["frames_with_clipped_features"], 12);
   EXPECT_EQ(json["features_colour"], "red");

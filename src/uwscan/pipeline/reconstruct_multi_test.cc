@@ -161,12 +161,6 @@ TEST(ReconstructTwoPods, TheSecondCamerasProfilesJoinTheCloud) {
 // trajectory of `one_pass`, a run of one pass on `job`'s dataset), the
 // report says why the second is missing, and the interruption names them.
 void CheckALaterPassThatFails(ReconstructJob job, const fs::path& root, const fs::path& one_pass) {
-  const auto says = [](const ReconstructReport& report, const std::string& what) {
-    const auto warnings = report.Warnings();
-    return std::any_of(warnings.begin(), warnings.end(), [&](const std::string& warning) {
-      return warning.find(what) != std::string::npos;
-    });
-  };
   const auto stands = [&](const fs::path& out) {
     EXPECT_EQ(FileBytes(out / "trajectory.tum"), FileBytes(one_pass / "trajectory.tum"));
     for (const auto& entry : fs::directory_iterator(out))
@@ -201,9 +195,9 @@ void CheckALaterPassThatFails(ReconstructJob job, const fs::path& root, const fs
   EXPECT_NE(failed.later_pass_failed.find(last_frame.filename().string()), std::string::npos)
       << failed.later_pass_failed;
   EXPECT_EQ(stands(job.out), failed.later_pass_failed);
-  EXPECT_TRUE(says(failed, "pass 2 failed ("));
-  EXPECT_TRUE(says(failed, "these outputs are pass 1's"));
-  EXPECT_FALSE(says(failed, "without --live"));  // auto passes did run
+  EXPECT_TRUE(Warns(failed, {"pass 2 failed ("}));
+  EXPECT_TRUE(Warns(failed, {"these outputs are pass 1's"}));
+  EXPECT_FALSE(Warns(failed, {"without --live"}));  // auto passes did run
 }
 
 // A hull with a propeller shaft in front of it (§6.5), scanned while the
@@ -256,11 +250,7 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
   // Forced to one pass (as a live run is), the report says what the passes
   // would have mended; where they ran it has nothing to say.
   const auto says_in_front = [](const ReconstructReport& report) {
-    const auto warnings = report.Warnings();
-    return std::any_of(warnings.begin(), warnings.end(), [](const std::string& warning) {
-      return warning.find("surface standing in front of its main one") != std::string::npos &&
-             warning.find("without --live") != std::string::npos;
-    });
+    return Warns(report, {"surface standing in front of its main one", "without --live"});
   };
   EXPECT_TRUE(one.surface_in_front);
   EXPECT_TRUE(says_in_front(one));

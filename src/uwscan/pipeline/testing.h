@@ -4,13 +4,16 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -38,6 +41,16 @@ inline void UseOdometryBeforeTheRobustLoss(fusion::SelfReferencedOptions* option
 // logarithm").
 inline void UseLinearTrackedImage(fusion::SelfReferencedOptions* options) {
   options->log_offset_fraction = 0.0;
+}
+
+// Whether one of the report's warnings holds every one of `parts`.
+inline bool Warns(const ReconstructReport& report, std::initializer_list<std::string_view> parts) {
+  const std::vector<std::string> warnings = report.Warnings();
+  return std::any_of(warnings.begin(), warnings.end(), [&](const std::string& warning) {
+    return std::all_of(parts.begin(), parts.end(), [&](std::string_view part) {
+      return warning.find(part) != std::string::npos;
+    });
+  });
 }
 
 // A simulated scan's size, length and seed; the rest the scenario's own.
