@@ -24,71 +24,50 @@ namespace {
 namespace fs = std::filesystem;
 using namespace pipeline_testing;
 
-// The tracks' residuals under a robust loss at their noise (Huber at
-// 0.3 px of the tracked image, fusion::SelfReferencedOdometryOptions)
-// instead of the 1.5 px before. In c_p 0.8 water the tracks' error has a
-// heavy tail that 1.5 px weighed fully: there the start at 640 px stayed
-// far from settled and the scale came out a third off (0.655); at the
-// tracks' noise it comes within ten times its tolerance (15.9 mm) and the
-// trajectory is metric (0.973; BENCHMARKS.md, "A robust loss at the
-// tracks' noise"). Still moving on a servo sweep, both ask for half the
-// image, which the default runs (retry off but in the last run). Both on
-// the linear tracked image the loss was chosen on: in logarithm (the
-// default) this hover's start at 640 px does not settle (0.874 here; by
-// default it is then retried at 320 px, 1.055), BENCHMARKS.md, "The
-// tracked image in logarithm".
-TEST(ReconstructTurbid, ARobustLossAtTheTracksNoiseSettlesTheStart) {
-  const fs::path root = TempFolder("turbid_loss");
+// A c_p 0.8 hover: tracked at 640 px its start is still moving (the
+// tracks' error has a heavy tail there) and the trajectory lands anywhere
+// within some 20 % of the truth's scale. Builds that differ only in the
+// last bits of the exact projection (seventy-first session) gave Sim(3)
+// scale 0.973 / 1.068 / 0.838 / 0.810, ATE 8.2 / 7.4 / 19.3 / 10.7 mm: a
+// lottery, which is why this test no longer compares the tracks' robust
+// loss with the 1.5 px before on it (0.655 / 0.774 / 0.703 / 1.029, ATE
+// 20.8 / 10.9 / 20.4 / 11.2 mm: "a robust loss settles the start" held in
+// one build of four; BENCHMARKS.md, "The exact projection in fewer Newton
+// steps"). What held in all four: a servo sweep still moving asks for half
+// the image, and the run that goes again there comes nearer the truth, ATE
+// 2.2 / 3.0 / 3.0 / 3.0 mm (scale 0.979 / 0.911 / 0.911 / 0.911). On the
+// linear tracked image the hover was measured on (BENCHMARKS.md, "Turbid
+// hovers: a start still moving runs again on half the image").
+TEST(ReconstructTurbid, AHoverWhoseStartStillMovesRunsAgainOnHalfTheImage) {
+  const fs::path root = TempFolder("turbid_moving");
   sim::ScenarioOptions options = ScanOptions(640, 480, 100, 5);
   options.turbidity = "0.8";
   ReconstructJob job = SimulatedJob(root, "tank-target", options);
-  job.retry_smaller_tracking = false;  // each run at 640 px
   const auto truth = ReadTum(job.dataset / "groundtruth.tum");
-  const auto run = [&](const std::string& name, bool before) {
+  const auto run = [&](const std::string& name, bool retry) {
     job.out = root / name;
+    job.retry_smaller_tracking = retry;
     job.self_referenced = fusion::SelfReferencedOptions();
-    UseLinearTrackedImage(&job.self_referenced);  // the loss compared on the image it was chosen on
-    if (before) UseOdometryBeforeTheRobustLoss(&job.self_referenced);
+    UseLinearTrackedImage(&job.self_referenced);
     // Not stopped by the machine's load (ctest runs tests side by side).
     job.self_referenced.odometry.ba.max_solver_time_s = 10.0;
     const ReconstructReport report = RunReconstruct(job);
     return std::make_pair(report,
                           ComputeTrajectoryMetrics(ReadTum(job.out / "trajectory.tum"), truth));
   };
-  const double robust_px = fusion::SelfReferencedOdometryOptions().ba.huber_px;
-  EXPECT_LT(robust_px, 0.5);
-  const auto [robust, at_noise] = run("robust", false);
-  const auto [wide, at_1_5] = run("wide", true);
-  EXPECT_EQ(vo::OdometryOptions().ba.huber_px, 1.5);
+  const auto [once, at_640] = run("once", false);
+  EXPECT_TRUE(once.laser_sweeps);
+  EXPECT_EQ(once.SmallerTrackingWidth(), 320);
+  const auto [again, at_half] = run("again", true);
   std::printf(
-      "turbid hover at 640 px: Sim(3) scale %.3f, ATE %.1f mm with the loss at %.1f px; %.3f, "
-      "%.1f mm at 1.5 px\n",
-      at_noise.alignment.scale, 1e3 * at_noise.ate_rmse_m, robust_px, at_1_5.alignment.scale,
-      1e3 * at_1_5.ate_rmse_m);
-  EXPECT_LT(std::abs(at_noise.alignment.scale - 1.0), 0.03);
-  EXPECT_GT(std::abs(at_1_5.alignment.scale - 1.0), 0.1);
-  EXPECT_LT(at_noise.ate_rmse_m, 0.5 * at_1_5.ate_rmse_m);
-  // The robust loss's start is not far from settled; the other one is.
-  // Both still move on a servo sweep: both ask for half the image.
-  const auto far = [](const ReconstructReport& report) {
-    return Warns(report, {"the whole trajectory rests on that start"});
-  };
-  EXPECT_FALSE(far(robust));
-  EXPECT_TRUE(far(wide));
-  EXPECT_TRUE(robust.laser_sweeps);
-  EXPECT_EQ(robust.SmallerTrackingWidth(), 320);
-  EXPECT_EQ(wide.SmallerTrackingWidth(), 320);
-  // By default the robust loss's run goes again on half the image, and its
-  // trajectory comes nearer the truth (8.2 -> 2.2 mm here; BENCHMARKS.md,
-  // "Turbid hovers: a start still moving runs again on half the image").
-  job.retry_smaller_tracking = true;
-  const auto [again, at_half] = run("again", false);
-  std::printf("the same run again on half the image: Sim(3) scale %.3f, ATE %.1f mm\n",
-              at_half.alignment.scale, 1e3 * at_half.ate_rmse_m);
+      "turbid hover: Sim(3) scale %.3f, ATE %.1f mm at 640 px; run again on half the image: "
+      "%.3f, %.1f mm\n",
+      at_640.alignment.scale, 1e3 * at_640.ate_rmse_m, at_half.alignment.scale,
+      1e3 * at_half.ate_rmse_m);
   EXPECT_EQ(again.tracking_retried_from_width, 640);
   EXPECT_EQ(again.pose_details.value("tracked_image_width", 0), 320);
-  EXPECT_LT(at_half.ate_rmse_m, 0.5 * at_noise.ate_rmse_m);
-  EXPECT_LT(std::abs(at_half.alignment.scale - 1.0), 0.03);
+  EXPECT_TRUE(Warns(again, {"the odometry ran again at 320 px"}));
+  EXPECT_LT(at_half.ate_rmse_m, 0.5 * at_640.ate_rmse_m);
   fs::remove_all(root);
 }
 

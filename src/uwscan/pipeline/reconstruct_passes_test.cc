@@ -97,10 +97,16 @@ TEST(ReconstructPasses, MorePassesUntilTheTrajectorySettles) {
   EXPECT_FALSE(three.report.passes_settled.has_value());  // a forced count
   EXPECT_EQ(three.report.pass_changes.size(), 2u);
   // Three passes: 1.99 mm against the INS's 1.95, scale 1.055; auto:
-  // 0.29 mm, 0.991 when written.
+  // 0.29 mm, 0.991 when written. Builds that differ only in the last bits
+  // of the exact projection (BENCHMARKS.md, "The exact projection in fewer
+  // Newton steps"): auto 0.30 mm, 0.989 in all three; three passes 0.29 /
+  // 2.14 / 1.98 mm, 0.988 / 1.064 / 1.058. Three passes may already make
+  // it; auto, going on until the trajectory settles, always does.
   EXPECT_LT(automatic.shaft_m, 0.5 * ins.shaft_m);
-  EXPECT_LT(automatic.shaft_m, 0.5 * three.shaft_m);
-  EXPECT_LT(std::abs(automatic.scale - 1.0), 0.5 * std::abs(three.scale - 1.0));
+  EXPECT_LT(automatic.shaft_m, 0.5e-3);
+  EXPECT_LT(std::abs(automatic.scale - 1.0), 0.015);
+  EXPECT_LT(automatic.shaft_m, 1.1 * three.shaft_m);
+  EXPECT_LT(std::abs(automatic.scale - 1.0), std::abs(three.scale - 1.0) + 0.002);
 
   // Passes that cannot settle (a tolerance no trajectory meets) stop once
   // they no longer converge (here: each move below a twentieth of the one
@@ -132,8 +138,9 @@ TEST(ReconstructPasses, MorePassesUntilTheTrajectorySettles) {
   const Run refused = run("three_refused", 3);
   std::printf("three passes, the diverging start refused: %.3f mm, scale %.4f\n",
               1e3 * refused.shaft_m, refused.scale);
+  // (0.305 / 0.305 / 0.305 mm, 0.992 / 0.990 / 0.992 in the three builds.)
   EXPECT_LT(refused.shaft_m, 0.5 * ins.shaft_m);
-  EXPECT_LT(std::abs(refused.scale - 1.0), 0.5 * std::abs(three.scale - 1.0));
+  EXPECT_LT(std::abs(refused.scale - 1.0), 0.015);
   fs::remove_all(root);
 }
 
