@@ -360,8 +360,11 @@ struct FlatPortModel {
     *df += d * ratio / (cos2 * cosine);
   }
 
-  // Solves sum_i d_i tan(asin(r_i s)) = L for s on doubles.
+  // Solves sum_i d_i tan(asin(r_i s)) = L for s on doubles, to within
+  // about kPolishedStep^2 relative: ExactAirRay's one Newton step after it
+  // brings s to machine precision.
   // values = {d_air, d_glass, d_water, r_glass, r_water, L}.
+  static constexpr double kPolishedStep = 1e-7;
   static bool SolveSine(const double* values, double* s_out) {
     const double d[3] = {values[0], values[1], values[2]};
     const double r[3] = {1.0, values[3], values[4]};
@@ -387,8 +390,13 @@ struct FlatPortModel {
       else
         lo = s;
       double next = s - f / df;
-      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-      if (std::abs(next - s) <= 4e-16 * std::max(s, 1e-300) || hi - lo <= 4e-16 * hi) {
+      const bool newton = next > lo && next < hi;
+      if (!newton) next = 0.5 * (lo + hi);
+      // A Newton step this small leaves an error of order its square, which
+      // the caller's Newton step (ExactAirRay's, in T) squares again: no
+      // need to confirm convergence to the last bit here.
+      if ((newton && std::abs(next - s) <= kPolishedStep * s) ||
+          std::abs(next - s) <= 4e-16 * std::max(s, 1e-300) || hi - lo <= 4e-16 * hi) {
         s = next;
         break;
       }
