@@ -361,8 +361,8 @@ struct FlatPortModel {
   }
 
   // Solves sum_i d_i tan(asin(r_i s)) = L for s on doubles, to within
-  // about kPolishedStep^2 relative: ExactAirRay's one Newton step after it
-  // brings s to machine precision.
+  // about kPolishedStep^2 of s and of its distance to s_max: ExactAirRay's
+  // one Newton step after it brings s to machine precision.
   // values = {d_air, d_glass, d_water, r_glass, r_water, L}.
   static constexpr double kPolishedStep = 1e-7;
   static bool SolveSine(const double* values, double* s_out) {
@@ -392,10 +392,11 @@ struct FlatPortModel {
       double next = s - f / df;
       const bool newton = next > lo && next < hi;
       if (!newton) next = 0.5 * (lo + hi);
-      // A Newton step this small leaves an error of order its square, which
-      // the caller's Newton step (ExactAirRay's, in T) squares again: no
-      // need to confirm convergence to the last bit here.
-      if ((newton && std::abs(next - s) <= kPolishedStep * s) ||
+      // A Newton step this small leaves an error of order its square over
+      // the distance to the pole at s_max (f's curvature grows as a ray
+      // nears grazing), which the caller's Newton step (ExactAirRay's, in
+      // T) squares again: no need to confirm the last bit here.
+      if ((newton && std::abs(next - s) <= kPolishedStep * std::min(s, s_max - s)) ||
           std::abs(next - s) <= 4e-16 * std::max(s, 1e-300) || hi - lo <= 4e-16 * hi) {
         s = next;
         break;
