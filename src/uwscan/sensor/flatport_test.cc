@@ -58,7 +58,7 @@ TEST(FlatPortModel, ExactProjectionInvertsBackProjection) {
 }
 
 // The exact air ray, traced through the port by Snell's law in vector form
-// (back-projection's Refract, independent of the forward solve in the
+// (back-projection's RefractRay, independent of the forward solve in the
 // plane of refraction), passes through its point to within 1e-9 of the
 // point's range, out to rays near grazing, far outside any image (at most
 // 2e-10 here, the same with the solve iterated to its last bit: the
@@ -66,14 +66,8 @@ TEST(FlatPortModel, ExactProjectionInvertsBackProjection) {
 // stop that ignored it (at a step below 1e-7 of the sine alone) missed by
 // up to ten times the range.
 TEST(FlatPortModel, ExactAirRayRefractsOntoItsPoint) {
-  const auto refract = [](const Eigen::Vector3d& in, const Eigen::Vector3d& n, double ratio) {
-    Eigen::Vector3d out;
-    EXPECT_TRUE(FlatPortModel::Refract(n.data(), in.data(), ratio, out.data()));
-    return out;
-  };
   for (const auto& [name, camera] : TestCameras()) {
     const auto port = camera.port.Params();
-    const Eigen::Vector3d n = camera.port.normal.normalized();
     double worst = 0.0;
     int count = 0;
     for (double depth : {0.2, 1.0, 3.0, 20.0}) {
@@ -85,10 +79,9 @@ TEST(FlatPortModel, ExactAirRayRefractsOntoItsPoint) {
                                          air.data()) != FlatPortModel::Status::kOk) {
             continue;
           }
-          const Eigen::Vector3d inner = air * (port[0] / n.dot(air));
-          const Eigen::Vector3d glass = refract(air, n, port[2] / port[3]);
-          const Eigen::Vector3d outer = inner + glass * (port[1] / n.dot(glass));
-          const Eigen::Vector3d water = refract(glass, n, port[3] / port[4]);
+          Eigen::Vector3d outer, water;
+          EXPECT_TRUE(FlatPortModel::RefractRay(camera.port.normal.data(), port.data(), air.data(),
+                                                outer.data(), water.data()));
           const Eigen::Vector3d to = point - outer;
           worst = std::max(worst, (to - to.dot(water) * water).norm() / point.norm());
           ++count;
