@@ -36,6 +36,11 @@ grep -q "^the point 2.000 m ahead on the optical axis (the scene): moved [0-9.]*
 "$bin" evaluate --dataset "$dir/seq" --trajectory "$dir/t.tum" --viewed-depth -1 2>"$dir/err" >/dev/null
 [ $? -eq 2 ] || fail "--viewed-depth -1: want exit 2"
 grep -q -- "--viewed-depth must be" "$dir/err" || fail "--viewed-depth error does not say why"
+# A KLT window our tracker does not have: a usage error, no output.
+"$bin" vo --dataset "$dir/seq" --out "$dir/w.tum" --klt-window 65 2>"$dir/err" >/dev/null
+[ $? -eq 2 ] || fail "--klt-window 65: want exit 2"
+grep -q -- "--klt-window must be odd, 5 to 63, got 65" "$dir/err" || fail "--klt-window error: $(cat "$dir/err")"
+[ ! -e "$dir/w.tum" ] || fail "--klt-window 65 left a trajectory"
 # The other figures' options: usage errors (exit 2) naming the option and what it got.
 for option in "--lengths -1" "--lengths nan" "--rpe-step 0" "--max-dt -1" "--max-dt nan" \
   "--rpe-from nan" "--rpe-from 5 --rpe-to 1"; do

@@ -85,9 +85,10 @@ void CheckOdometryFlags(const vo::OdometryOptions& odometry) {
     throw UsageError("--ba-history must be >= 0, got " + std::to_string(ba.history_keyframes));
   }
   const vo::FeatureTrackerOptions& tracker = odometry.tracker;
-  if (tracker.klt_window_px < 5 || tracker.klt_window_px % 2 == 0) {
-    throw UsageError("--klt-window must be odd and >= 5, got " +
-                     std::to_string(tracker.klt_window_px));
+  if (tracker.klt_window_px < vo::kMinWindowPx || tracker.klt_window_px > vo::kMaxWindowPx ||
+      tracker.klt_window_px % 2 == 0) {
+    throw UsageError(fmt::format("--klt-window must be odd, {} to {}, got {}", vo::kMinWindowPx,
+                                 vo::kMaxWindowPx, tracker.klt_window_px));
   }
   if (tracker.max_per_cell < 1)
     throw UsageError("--per-cell must be >= 1, got " + std::to_string(tracker.max_per_cell));

@@ -7,6 +7,7 @@
 #include <unordered_set>
 
 #include "uwscan/util/error.h"
+#include "uwscan/vo/lucas_kanade.h"
 
 namespace uwscan::vo {
 
@@ -15,7 +16,9 @@ void FeatureTrackerOptions::Check() const {
   UWS_CHECK(max_per_cell >= 1, "max_per_cell must be >= 1");
   UWS_CHECK(quality_level > 0 && quality_level < 1, "quality_level must be in (0, 1)");
   UWS_CHECK(min_distance_px >= 1, "min_distance_px must be >= 1");
-  UWS_CHECK(klt_window_px >= 5 && klt_window_px % 2 == 1, "klt_window_px must be odd and >= 5");
+  UWS_CHECK(
+      klt_window_px >= kMinWindowPx && klt_window_px <= kMaxWindowPx && klt_window_px % 2 == 1,
+      "klt_window_px must be odd, ", kMinWindowPx, " to ", kMaxWindowPx);
   UWS_CHECK(klt_pyramid_levels >= 0 && klt_pyramid_levels <= 6, "klt_pyramid_levels in 0..6");
   UWS_CHECK(klt_predicted_levels <= 6, "klt_predicted_levels must be <= 6");
   UWS_CHECK(anchor_keep_keyframes >= 0, "anchor_keep_keyframes must be >= 0");
@@ -30,6 +33,9 @@ void FeatureTrackerOptions::Check() const {
 
 FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(options) {
   options_.Check();
+  klt_.window_px = options_.klt_window_px;
+  klt_.max_iterations = options_.klt_max_iterations;
+  klt_.Check();
 }
 
 void FeatureTracker::Reset() {
@@ -140,7 +146,6 @@ bool Inside(const cv::Point2f& p, const cv::Size& size, double border) {
 }  // namespace
 
 void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
-                                          const cv::Size& window, const cv::TermCriteria& criteria,
                                           std::vector<cv::Point2f>* current,
                                           std::vector<uint8_t>* consistent,
                                           std::vector<uint8_t>* from_prediction) const {
@@ -149,15 +154,13 @@ void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
   previous.reserve(n);
   for (const auto& t : tracks_) previous.emplace_back(float(t.pixel.x()), float(t.pixel.y()));
   std::vector<uint8_t> status, status_back;
-  std::vector<float> error;
   // The backward pass starts where a consistent track must end (the
   // previous position), so full resolution suffices: a track that does
   // not come back to within the check from there is rejected either way.
   auto backward = [&](const std::vector<cv::Point2f>& from, const std::vector<cv::Point2f>& start,
                       std::vector<cv::Point2f>* to, std::vector<uint8_t>* ok) {
     *to = start;
-    cv::calcOpticalFlowPyrLK(pyramid, *previous_pyramid_, from, *to, *ok, error, window, 0,
-                             criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    TrackLucasKanade(pyramid, *previous_pyramid_, from, to, ok, 0, true, klt_);
   };
   auto check = [&](size_t i) {
     const cv::Point2f& p = (*current)[i];
@@ -168,8 +171,7 @@ void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
   const int full = options_.klt_pyramid_levels;
   const int predicted_levels = options_.klt_predicted_levels;
   if (predicted_levels < 0 || predicted_levels >= full) {
-    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error, window,
-                             full, criteria);
+    TrackLucasKanade(*previous_pyramid_, pyramid, previous, current, &status, full, false, klt_);
     backward(*current, previous, &back, &status_back);
   } else {
     // Each track starts where its last displacement predicts it (a smooth
@@ -183,8 +185,8 @@ void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
       predicted[i] = cv::Point2f(float(t.pixel.x() + t.flow.x()), float(t.pixel.y() + t.flow.y()));
     }
     *current = predicted;
-    cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, previous, *current, status, error, window,
-                             predicted_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    TrackLucasKanade(*previous_pyramid_, pyramid, previous, current, &status, predicted_levels,
+                     true, klt_);
     backward(*current, previous, &back, &status_back);
     const double reach = double(1 << predicted_levels) * options_.klt_window_px / 4.0;
     std::vector<size_t> retry;
@@ -197,8 +199,7 @@ void FeatureTracker::TrackForwardBackward(const std::vector<cv::Mat>& pyramid,
       std::vector<cv::Point2f> from, to, to_back;
       std::vector<uint8_t> ok, ok_back;
       for (size_t i : retry) from.push_back(previous[i]);
-      cv::calcOpticalFlowPyrLK(*previous_pyramid_, pyramid, from, to, ok, error, window, full,
-                               criteria);
+      TrackLucasKanade(*previous_pyramid_, pyramid, from, &to, &ok, full, false, klt_);
       backward(to, from, &to_back, &ok_back);
       for (size_t k = 0; k < retry.size(); ++k) {
         const size_t i = retry[k];
@@ -218,20 +219,19 @@ TrackingStats FeatureTracker::Track(const cv::Mat& gray, const cv::Mat& mask) {
   UWS_CHECK(mask.empty() || (mask.type() == CV_8UC1 && mask.size() == gray.size()),
             "FeatureTracker: mask must be CV_8U and of the image size");
   TrackingStats stats;
-  const cv::Size window(options_.klt_window_px, options_.klt_window_px);
+  // The levels with the border our KLT reads, without OpenCV's
+  // derivatives (it interpolates its windows' own).
+  const int border = LucasKanadeBorderPx(options_.klt_window_px);
   auto built = std::make_shared<std::vector<cv::Mat>>();
-  cv::buildOpticalFlowPyramid(gray, *built, window, options_.klt_pyramid_levels);
+  cv::buildOpticalFlowPyramid(gray, *built, cv::Size(border, border), options_.klt_pyramid_levels,
+                              /*withDerivatives=*/false);
   const Pyramid pyramid = built;
   if (!previous_gray_.empty() && previous_gray_.size() != gray.size()) Reset();
   if (previous_pyramid_ && !tracks_.empty()) {
     std::vector<cv::Point2f> current;
     std::vector<uint8_t> consistent, from_prediction;
-    const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                                    options_.klt_max_iterations, 0.01);
-    TrackForwardBackward(*pyramid, window, criteria, &current, &consistent, &from_prediction);
-    if (options_.anchor_refinement && anchor_pyramid_) {
-      RefineFromAnchor(*pyramid, window, criteria, &current);
-    }
+    TrackForwardBackward(*pyramid, &current, &consistent, &from_prediction);
+    if (options_.anchor_refinement && anchor_pyramid_) RefineFromAnchor(*pyramid, &current);
     std::vector<vo::FeatureTrack> kept;
     std::vector<Eigen::Vector2d> flow_from, flow_to;
     kept.reserve(tracks_.size());
@@ -315,9 +315,6 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
   // Only once the KLT window is clear of the mask: a bright line in the
   // window would pull the match towards itself.
   const int clearance = options_.klt_window_px / 2;
-  const cv::Size window(options_.klt_window_px, options_.klt_window_px);
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                                  options_.klt_max_iterations, 0.01);
   std::vector<size_t> candidates;
   for (size_t i = 0; i < dormant_.size(); ++i) {
     if (!MaskedNear(mask, dormant_[i].track.pixel, clearance)) candidates.push_back(i);
@@ -341,11 +338,9 @@ void FeatureTracker::Reacquire(const std::vector<cv::Mat>& pyramid, const cv::Ma
     const std::vector<cv::Point2f> predicted = to;
     std::vector<cv::Point2f> back = from;
     std::vector<uint8_t> status, status_back;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(*anchor, pyramid, from, to, status, error, window,
-                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-    cv::calcOpticalFlowPyrLK(pyramid, *anchor, to, back, status_back, error, window,
-                             options_.klt_pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+    TrackLucasKanade(*anchor, pyramid, from, &to, &status, options_.klt_pyramid_levels, true, klt_);
+    TrackLucasKanade(pyramid, *anchor, to, &back, &status_back, options_.klt_pyramid_levels, true,
+                     klt_);
     for (size_t n = 0; n < from.size(); ++n) {
       const cv::Point2f& p = to[n];
       if (!status[n] || !status_back[n] || !Inside(p, size, b) ||
@@ -406,8 +401,7 @@ void FeatureTracker::SetAnchor(const cv::Mat& mask, bool view_moved) {
   refinement_anchors_.swap(refinement);
 }
 
-void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
-                                      const cv::TermCriteria& criteria,
+void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid,
                                       std::vector<cv::Point2f>* current) {
   // The tracks by the anchor image they are refined from: their own kept
   // one (anchor_keep_keyframes), else the last keyframe's.
@@ -433,12 +427,10 @@ void FeatureTracker::RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const
     std::vector<cv::Point2f> start, to;
     for (size_t i : members) start.push_back(from[i]), to.push_back((*current)[i]);
     std::vector<uint8_t> status;
-    std::vector<float> error;
     // The frame-to-frame position starts within a pixel or so of the
     // answer (a larger correction is refused below): full resolution only,
     // a quarter of the work of the pyramid.
-    cv::calcOpticalFlowPyrLK(*image, pyramid, start, to, status, error, window, 0, criteria,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    TrackLucasKanade(*image, pyramid, start, &to, &status, 0, true, klt_);
     for (size_t k = 0; k < members.size(); ++k) {
       cv::Point2f& p = (*current)[members[k]];
       if (status[k] && std::isfinite(to[k].x) && std::isfinite(to[k].y) &&

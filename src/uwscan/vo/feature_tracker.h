@@ -23,6 +23,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "uwscan/vo/lucas_kanade.h"
+
 namespace uwscan::vo {
 
 struct FeatureTrackerOptions {
@@ -126,6 +128,7 @@ class FeatureTracker {
     int frames = 0;      // frames dormant
   };
   FeatureTrackerOptions options_;
+  LucasKanadeOptions klt_;  // from options_
   std::vector<FeatureTrack> tracks_;
   std::vector<DormantTrack> dormant_;
   Pyramid previous_pyramid_;
@@ -141,15 +144,13 @@ class FeatureTracker {
   std::unordered_map<uint64_t, RefinementAnchor> refinement_anchors_;
   // Refines the frame-to-frame positions `current` (one per track) by KLT
   // from the anchor image, for the tracks seen there.
-  void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
-                        const cv::TermCriteria& criteria, std::vector<cv::Point2f>* current);
+  void RefineFromAnchor(const std::vector<cv::Mat>& pyramid, std::vector<cv::Point2f>* current);
   // Tracks every feature from the previous image into `pyramid` (forward)
   // and back (at full resolution, from the previous position): `current`
   // receives the positions, `consistent` flags those that KLT found and
   // that came back to within forward_backward_px, `from_prediction` those
   // found from their predicted positions.
-  void TrackForwardBackward(const std::vector<cv::Mat>& pyramid, const cv::Size& window,
-                            const cv::TermCriteria& criteria, std::vector<cv::Point2f>* current,
+  void TrackForwardBackward(const std::vector<cv::Mat>& pyramid, std::vector<cv::Point2f>* current,
                             std::vector<uint8_t>* consistent,
                             std::vector<uint8_t>* from_prediction) const;
   void KeepDormant(const FeatureTrack& track);
