@@ -99,6 +99,66 @@ bool Floor(float v, int* i, float* fraction) {
   return true;
 }
 
+// Where a window's template starts: its patch (the window with a pixel
+// more on every side, for the gradients, and the padding's columns) has
+// its top-left pixel (x0, y0) and p's sub-pixel offset (fx, fy).
+struct TemplateStart {
+  int x0 = 0, y0 = 0;
+  float fx = 0, fy = 0;
+  float w00 = 0, w01 = 0, w10 = 0, w11 = 0;  // bilinear weights
+  // The patch's column c on the row between a and b.
+  float Interpolate(const uint8_t* a, const uint8_t* b, int c) const {
+    return w00 * static_cast<float>(a[c]) + w01 * static_cast<float>(a[c + 1]) +
+           w10 * static_cast<float>(b[c]) + w11 * static_cast<float>(b[c + 1]);
+  }
+};
+
+constexpr int PatchStep(int padded) { return padded + 8; }  // padded + 2 used
+
+bool Locate(const Level& level, float px, float py, int size, int padded, TemplateStart* start) {
+  const int half = size / 2;
+  if (!Floor(px - static_cast<float>(half + 1), &start->x0, &start->fx) ||
+      !Floor(py - static_cast<float>(half + 1), &start->y0, &start->fy))
+    return false;
+  if (!level.Readable(start->x0, start->y0, padded + 3, size + 3)) return false;
+  const float fx = start->fx, fy = start->fy;
+  start->w00 = (1 - fx) * (1 - fy);
+  start->w01 = fx * (1 - fy);
+  start->w10 = (1 - fx) * fy;
+  start->w11 = fx * fy;
+  return true;
+}
+
+// Scharr's kernel is normalised to grey levels per pixel, and only the
+// image's own pixels count: the border's reflected texture is not the
+// scene's, and a window that reaches into it would match it. A sample's
+// gradient is weighed by how much of its interpolation lies in the image
+// (its column's and row's two pixels), and the padding's columns by
+// nothing.
+float InImage(int i, int n, float f) {
+  return (i >= 0 && i < n ? 1.0f - f : 0.0f) + (i + 1 >= 0 && i + 1 < n ? f : 0.0f);
+}
+
+void ColumnWeights(const Level& level, const TemplateStart& start, int size, int padded,
+                   float* weights) {
+  for (int c = 0; c < padded; ++c)
+    weights[c] = c < size ? InImage(start.x0 + 1 + c, level.cols, start.fx) / 32.0f : 0.0f;
+}
+
+float RowWeight(const Level& level, const TemplateStart& start, int r) {
+  return InImage(start.y0 + 1 + r, level.rows, start.fy);
+}
+
+// The gradient matrix from its per-column sums, added in order.
+void SumColumns(const float* s11, const float* s12, const float* s22, int padded, Template* t) {
+  t->g11 = t->g12 = t->g22 = 0;
+  for (int c = 0; c < padded; ++c) {
+    t->g11 += s11[c];
+    t->g12 += s12[c];
+    t->g22 += s22[c];
+  }
+}
+
 // The kernels, for rows padded to P floats (P a multiple of 8, known when
 // compiled so that the rows' sums stay in vector registers). Each sum is
 // kept per column and the columns added in order at the end, so that
@@ -109,45 +169,23 @@ struct Kernels {
   // it cannot be read there.
   static inline __attribute__((always_inline)) bool MakeTemplate(const Level& level, float px,
                                                                  float py, int size, Template* t) {
-    const int half = size / 2;
-    // The window with a pixel more on every side (for the gradients), and
-    // the padding's columns, bilinearly at p's sub-pixel offset.
-    int x0, y0;
-    float fx, fy;
-    if (!Floor(px - static_cast<float>(half + 1), &x0, &fx) ||
-        !Floor(py - static_cast<float>(half + 1), &y0, &fy))
-      return false;
-    constexpr int kCols = P + 8;  // P + 2 used
-    if (!level.Readable(x0, y0, P + 3, size + 3)) return false;
-    const float w00 = (1 - fx) * (1 - fy), w01 = fx * (1 - fy), w10 = (1 - fx) * fy, w11 = fx * fy;
-    alignas(32) float patch[(kMaxWindowPx + 2) * kCols];
+    TemplateStart start;
+    if (!Locate(level, px, py, size, P, &start)) return false;
+    alignas(32) float patch[(kMaxWindowPx + 2) * PatchStep(P)];
     for (int r = 0; r < size + 2; ++r) {
-      const uint8_t* a = level.Row(y0 + r) + x0;
-      const uint8_t* b = level.Row(y0 + r + 1) + x0;
-      float* out = patch + r * kCols;
-      for (int c = 0; c < P + 2; ++c) {
-        out[c] = w00 * static_cast<float>(a[c]) + w01 * static_cast<float>(a[c + 1]) +
-                 w10 * static_cast<float>(b[c]) + w11 * static_cast<float>(b[c + 1]);
-      }
+      const uint8_t* a = level.Row(start.y0 + r) + start.x0;
+      const uint8_t* b = level.Row(start.y0 + r + 1) + start.x0;
+      float* out = patch + r * PatchStep(P);
+      for (int c = 0; c < P + 2; ++c) out[c] = start.Interpolate(a, b, c);
     }
-    // Scharr's kernel, normalised to grey levels per pixel. Only the
-    // image's own pixels count: the border's reflected texture is not the
-    // scene's, and a window that reaches into it would match it. A
-    // sample's gradient is weighed by how much of its interpolation lies in
-    // the image (its column's and row's two pixels), and the padding's
-    // columns by nothing.
-    auto in_image = [](int i, int n, float f) {
-      return (i >= 0 && i < n ? 1.0f - f : 0.0f) + (i + 1 >= 0 && i + 1 < n ? f : 0.0f);
-    };
     float column_weight[P];
-    for (int c = 0; c < P; ++c)
-      column_weight[c] = c < size ? in_image(x0 + 1 + c, level.cols, fx) / 32.0f : 0.0f;
+    ColumnWeights(level, start, size, P, column_weight);
     float s11[P] = {}, s12[P] = {}, s22[P] = {};
     for (int r = 0; r < size; ++r) {
-      const float row_weight = in_image(y0 + 1 + r, level.rows, fy);
-      const float* up = patch + r * kCols;
-      const float* mid = up + kCols;
-      const float* down = mid + kCols;
+      const float row_weight = RowWeight(level, start, r);
+      const float* up = patch + r * PatchStep(P);
+      const float* mid = up + PatchStep(P);
+      const float* down = mid + PatchStep(P);
       float* value = t->value + r * P;
       float* gx = t->gx + r * P;
       float* gy = t->gy + r * P;
@@ -167,12 +205,7 @@ struct Kernels {
         s22[c] += dy * dy;
       }
     }
-    t->g11 = t->g12 = t->g22 = 0;
-    for (int c = 0; c < P; ++c) {
-      t->g11 += s11[c];
-      t->g12 += s12[c];
-      t->g22 += s22[c];
-    }
+    SumColumns(s11, s12, s22, P, t);
     return true;
   }
 
@@ -218,19 +251,97 @@ struct Kernels {
   }
 };
 
+// Eight pixels from `row` on, as floats.
+__attribute__((target("avx2"), always_inline)) inline __m256 EightAvx2(const uint8_t* row) {
+  return _mm256_cvtepi32_ps(
+      _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row))));
+}
+
+// Eight pixels from `row` on, interpolated at fx towards the next ones.
+__attribute__((target("avx2"), always_inline)) inline __m256 HorizontalAvx2(const uint8_t* row,
+                                                                            __m256 fx) {
+  const __m256 left = EightAvx2(row), right = EightAvx2(row + 1);
+  return _mm256_add_ps(left, _mm256_mul_ps(fx, _mm256_sub_ps(right, left)));
+}
+
+// Kernels<P>::MakeTemplate in AVX2 by hand, the same operations on each
+// column in the same order.
+template <int P>
+__attribute__((target("avx2"))) bool MakeTemplateAvx2(const Level& level, float px, float py,
+                                                      int size, Template* t) {
+  constexpr int kVectors = P / 8, kStep = PatchStep(P);
+  TemplateStart start;
+  if (!Locate(level, px, py, size, P, &start)) return false;
+  const __m256 w00 = _mm256_set1_ps(start.w00), w01 = _mm256_set1_ps(start.w01),
+               w10 = _mm256_set1_ps(start.w10), w11 = _mm256_set1_ps(start.w11);
+  alignas(32) float patch[(kMaxWindowPx + 2) * kStep];
+  for (int r = 0; r < size + 2; ++r) {
+    const uint8_t* a = level.Row(start.y0 + r) + start.x0;
+    const uint8_t* b = level.Row(start.y0 + r + 1) + start.x0;
+    float* out = patch + r * kStep;
+    for (int k = 0; k < kVectors; ++k) {
+      const uint8_t* a8 = a + 8 * k;
+      const uint8_t* b8 = b + 8 * k;
+      const __m256 sum =
+          _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(w00, EightAvx2(a8)),
+                                                    _mm256_mul_ps(w01, EightAvx2(a8 + 1))),
+                                      _mm256_mul_ps(w10, EightAvx2(b8))),
+                        _mm256_mul_ps(w11, EightAvx2(b8 + 1)));
+      _mm256_store_ps(out + 8 * k, sum);
+    }
+    for (int c = P; c < P + 2; ++c) out[c] = start.Interpolate(a, b, c);
+  }
+  alignas(32) float column_weight[P];
+  ColumnWeights(level, start, size, P, column_weight);
+  const __m256 three = _mm256_set1_ps(3.0f), ten = _mm256_set1_ps(10.0f);
+  __m256 s11[kVectors], s12[kVectors], s22[kVectors];
+  for (int k = 0; k < kVectors; ++k) s11[k] = s12[k] = s22[k] = _mm256_setzero_ps();
+  for (int r = 0; r < size; ++r) {
+    const __m256 row_weight = _mm256_set1_ps(RowWeight(level, start, r));
+    const float* up = patch + r * kStep;
+    const float* mid = up + kStep;
+    const float* down = mid + kStep;
+    for (int k = 0; k < kVectors; ++k) {
+      const int c = 8 * k;
+      const __m256 u0 = _mm256_load_ps(up + c), u1 = _mm256_loadu_ps(up + c + 1),
+                   u2 = _mm256_loadu_ps(up + c + 2);
+      const __m256 m0 = _mm256_load_ps(mid + c), m1 = _mm256_loadu_ps(mid + c + 1),
+                   m2 = _mm256_loadu_ps(mid + c + 2);
+      const __m256 d0 = _mm256_load_ps(down + c), d1 = _mm256_loadu_ps(down + c + 1),
+                   d2 = _mm256_loadu_ps(down + c + 2);
+      const __m256 inside = _mm256_mul_ps(_mm256_load_ps(column_weight + c), row_weight);
+      const __m256 dx =
+          _mm256_mul_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(three, _mm256_sub_ps(u2, u0)),
+                                                    _mm256_mul_ps(ten, _mm256_sub_ps(m2, m0))),
+                                      _mm256_mul_ps(three, _mm256_sub_ps(d2, d0))),
+                        inside);
+      const __m256 dy =
+          _mm256_mul_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(three, _mm256_sub_ps(d0, u0)),
+                                                    _mm256_mul_ps(ten, _mm256_sub_ps(d1, u1))),
+                                      _mm256_mul_ps(three, _mm256_sub_ps(d2, u2))),
+                        inside);
+      _mm256_store_ps(t->value + r * P + c, m1);
+      _mm256_store_ps(t->gx + r * P + c, dx);
+      _mm256_store_ps(t->gy + r * P + c, dy);
+      s11[k] = _mm256_add_ps(s11[k], _mm256_mul_ps(dx, dx));
+      s12[k] = _mm256_add_ps(s12[k], _mm256_mul_ps(dx, dy));
+      s22[k] = _mm256_add_ps(s22[k], _mm256_mul_ps(dy, dy));
+    }
+  }
+  alignas(32) float c11[P], c12[P], c22[P];
+  for (int k = 0; k < kVectors; ++k) {
+    _mm256_store_ps(c11 + 8 * k, s11[k]);
+    _mm256_store_ps(c12 + 8 * k, s12[k]);
+    _mm256_store_ps(c22 + 8 * k, s22[k]);
+  }
+  SumColumns(c11, c12, c22, P, t);
+  return true;
+}
+
 // Kernels<P>::Mismatch in AVX2 by hand (the compiler's vectors of it were
 // half as wide): the same operations on each column in the same order,
 // so the same bits.
 // Eight pixels from `row` on, interpolated at fx towards the next ones.
-__attribute__((target("avx2"), always_inline)) inline __m256 HorizontalAvx2(const uint8_t* row,
-                                                                            __m256 fx) {
-  const __m256 left = _mm256_cvtepi32_ps(
-      _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row))));
-  const __m256 right = _mm256_cvtepi32_ps(
-      _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row + 1))));
-  return _mm256_add_ps(left, _mm256_mul_ps(fx, _mm256_sub_ps(right, left)));
-}
-
 template <int P>
 __attribute__((target("avx2"))) bool MismatchAvx2(const Level& level, const Template& t, float x,
                                                   float y, int size, double* b1, double* b2) {
@@ -309,21 +420,21 @@ KernelPair KernelsFor(int padded, bool allow_avx2) {
   const bool avx2 = allow_avx2 && __builtin_cpu_supports("avx2");
   switch (padded) {
     case 8:
-      return {MakeTemplate8, avx2 ? MismatchAvx2<8> : Mismatch8};
+      return {avx2 ? MakeTemplateAvx2<8> : MakeTemplate8, avx2 ? MismatchAvx2<8> : Mismatch8};
     case 16:
-      return {MakeTemplate16, avx2 ? MismatchAvx2<16> : Mismatch16};
+      return {avx2 ? MakeTemplateAvx2<16> : MakeTemplate16, avx2 ? MismatchAvx2<16> : Mismatch16};
     case 24:
-      return {MakeTemplate24, avx2 ? MismatchAvx2<24> : Mismatch24};
+      return {avx2 ? MakeTemplateAvx2<24> : MakeTemplate24, avx2 ? MismatchAvx2<24> : Mismatch24};
     case 32:
-      return {MakeTemplate32, avx2 ? MismatchAvx2<32> : Mismatch32};
+      return {avx2 ? MakeTemplateAvx2<32> : MakeTemplate32, avx2 ? MismatchAvx2<32> : Mismatch32};
     case 40:
-      return {MakeTemplate40, avx2 ? MismatchAvx2<40> : Mismatch40};
+      return {avx2 ? MakeTemplateAvx2<40> : MakeTemplate40, avx2 ? MismatchAvx2<40> : Mismatch40};
     case 48:
-      return {MakeTemplate48, avx2 ? MismatchAvx2<48> : Mismatch48};
+      return {avx2 ? MakeTemplateAvx2<48> : MakeTemplate48, avx2 ? MismatchAvx2<48> : Mismatch48};
     case 56:
-      return {MakeTemplate56, avx2 ? MismatchAvx2<56> : Mismatch56};
+      return {avx2 ? MakeTemplateAvx2<56> : MakeTemplate56, avx2 ? MismatchAvx2<56> : Mismatch56};
     default:
-      return {MakeTemplate64, avx2 ? MismatchAvx2<64> : Mismatch64};
+      return {avx2 ? MakeTemplateAvx2<64> : MakeTemplate64, avx2 ? MismatchAvx2<64> : Mismatch64};
   }
 }
 
