@@ -79,8 +79,6 @@ std::vector<Level> Levels(const std::vector<cv::Mat>& pyramid, int window_px) {
   return levels;
 }
 
-enum class LevelResult { kTracked, kSkipped, kLost };
-
 // The window of `from` around `p` and its gradients, ready for the
 // iterations: values, x and y gradients, row by row in rows of `padded`.
 struct Template {
@@ -167,8 +165,7 @@ template <int P>
 struct Kernels {
   // Sets t up for the window of `size` around p (level pixels); false if
   // it cannot be read there.
-  static inline __attribute__((always_inline)) bool MakeTemplate(const Level& level, float px,
-                                                                 float py, int size, Template* t) {
+  static bool MakeTemplate(const Level& level, float px, float py, int size, Template* t) {
     TemplateStart start;
     if (!Locate(level, px, py, size, P, &start)) return false;
     alignas(32) float patch[(kMaxWindowPx + 2) * PatchStep(P)];
@@ -212,9 +209,8 @@ struct Kernels {
   // The window's mismatch against `to` with its top-left corner at (x, y):
   // b = the sum of (J - I) times the gradient. False if it cannot be read
   // there.
-  static inline __attribute__((always_inline)) bool Mismatch(const Level& level, const Template& t,
-                                                             float x, float y, int size, double* b1,
-                                                             double* b2) {
+  static bool Mismatch(const Level& level, const Template& t, float x, float y, int size,
+                       double* b1, double* b2) {
     int x0, y0;
     float fx, fy;
     if (!Floor(x, &x0, &fx) || !Floor(y, &y0, &fy)) return false;
@@ -341,7 +337,6 @@ __attribute__((target("avx2"))) bool MakeTemplateAvx2(const Level& level, float 
 // Kernels<P>::Mismatch in AVX2 by hand (the compiler's vectors of it were
 // half as wide): the same operations on each column in the same order,
 // so the same bits.
-// Eight pixels from `row` on, interpolated at fx towards the next ones.
 template <int P>
 __attribute__((target("avx2"))) bool MismatchAvx2(const Level& level, const Template& t, float x,
                                                   float y, int size, double* b1, double* b2) {
@@ -351,13 +346,10 @@ __attribute__((target("avx2"))) bool MismatchAvx2(const Level& level, const Temp
   if (!Floor(x, &x0, &fx) || !Floor(y, &y0, &fy)) return false;
   if (!level.Readable(x0, y0, P + 1, size + 1)) return false;
   const __m256 vfx = _mm256_set1_ps(fx), vfy = _mm256_set1_ps(fy);
-  auto horizontal = [&](const uint8_t* row, int k) __attribute__((target("avx2"))) {
-    return HorizontalAvx2(row + 8 * k, vfx);
-  };
   __m256 above[kVectors], s1[kVectors], s2[kVectors];
   const uint8_t* first = level.Row(y0) + x0;
   for (int k = 0; k < kVectors; ++k) {
-    above[k] = horizontal(first, k);
+    above[k] = HorizontalAvx2(first + 8 * k, vfx);
     s1[k] = _mm256_setzero_ps();
     s2[k] = _mm256_setzero_ps();
   }
@@ -367,7 +359,7 @@ __attribute__((target("avx2"))) bool MismatchAvx2(const Level& level, const Temp
     const float* gx = t.gx + r * P;
     const float* gy = t.gy + r * P;
     for (int k = 0; k < kVectors; ++k) {
-      const __m256 below = horizontal(row, k);
+      const __m256 below = HorizontalAvx2(row + 8 * k, vfx);
       const __m256 e =
           _mm256_sub_ps(_mm256_add_ps(above[k], _mm256_mul_ps(vfy, _mm256_sub_ps(below, above[k]))),
                         _mm256_load_ps(value + 8 * k));
@@ -391,71 +383,59 @@ __attribute__((target("avx2"))) bool MismatchAvx2(const Level& level, const Temp
   return true;
 }
 
-// The kernels for each padded width, for AVX2 and for any x86-64.
-#define UWS_LK_KERNELS(P)                                                                          \
-  __attribute__((target_clones("avx2", "default"))) bool MakeTemplate##P(                          \
-      const Level& level, float px, float py, int size, Template* t) {                             \
-    return Kernels<P>::MakeTemplate(level, px, py, size, t);                                       \
-  }                                                                                                \
-  __attribute__((target_clones("avx2", "default"))) bool Mismatch##P(                              \
-      const Level& level, const Template& t, float x, float y, int size, double* b1, double* b2) { \
-    return Kernels<P>::Mismatch(level, t, x, y, size, b1, b2);                                     \
-  }
-UWS_LK_KERNELS(8)
-UWS_LK_KERNELS(16)
-UWS_LK_KERNELS(24)
-UWS_LK_KERNELS(32)
-UWS_LK_KERNELS(40)
-UWS_LK_KERNELS(48)
-UWS_LK_KERNELS(56)
-UWS_LK_KERNELS(64)
-#undef UWS_LK_KERNELS
-
 struct KernelPair {
   bool (*make_template)(const Level&, float, float, int, Template*);
   bool (*mismatch)(const Level&, const Template&, float, float, int, double*, double*);
 };
 
+// The kernels for rows of P floats: AVX2 where the CPU has it, else the
+// portable ones (which the compiler vectorises for any x86-64).
+template <int P>
+KernelPair KernelsOf(bool avx2) {
+  if (avx2) return {MakeTemplateAvx2<P>, MismatchAvx2<P>};
+  return {Kernels<P>::MakeTemplate, Kernels<P>::Mismatch};
+}
+
 KernelPair KernelsFor(int padded, bool allow_avx2) {
   const bool avx2 = allow_avx2 && __builtin_cpu_supports("avx2");
   switch (padded) {
     case 8:
-      return {avx2 ? MakeTemplateAvx2<8> : MakeTemplate8, avx2 ? MismatchAvx2<8> : Mismatch8};
+      return KernelsOf<8>(avx2);
     case 16:
-      return {avx2 ? MakeTemplateAvx2<16> : MakeTemplate16, avx2 ? MismatchAvx2<16> : Mismatch16};
+      return KernelsOf<16>(avx2);
     case 24:
-      return {avx2 ? MakeTemplateAvx2<24> : MakeTemplate24, avx2 ? MismatchAvx2<24> : Mismatch24};
+      return KernelsOf<24>(avx2);
     case 32:
-      return {avx2 ? MakeTemplateAvx2<32> : MakeTemplate32, avx2 ? MismatchAvx2<32> : Mismatch32};
+      return KernelsOf<32>(avx2);
     case 40:
-      return {avx2 ? MakeTemplateAvx2<40> : MakeTemplate40, avx2 ? MismatchAvx2<40> : Mismatch40};
+      return KernelsOf<40>(avx2);
     case 48:
-      return {avx2 ? MakeTemplateAvx2<48> : MakeTemplate48, avx2 ? MismatchAvx2<48> : Mismatch48};
+      return KernelsOf<48>(avx2);
     case 56:
-      return {avx2 ? MakeTemplateAvx2<56> : MakeTemplate56, avx2 ? MismatchAvx2<56> : Mismatch56};
+      return KernelsOf<56>(avx2);
     default:
-      return {avx2 ? MakeTemplateAvx2<64> : MakeTemplate64, avx2 ? MismatchAvx2<64> : Mismatch64};
+      return KernelsOf<64>(avx2);
   }
 }
 
 // Tracks one point on one level: from `p` in `from` (level pixels), `q`
-// in `to` the start and the result.
-LevelResult TrackOnLevel(const Level& from, const Level& to, cv::Point2f p, cv::Point2f* q,
-                         const LucasKanadeOptions& options, const KernelPair& kernels,
-                         Template* t) {
+// in `to` the start and the result. False, q as it was, where the window
+// has no texture or cannot be read (off the image).
+bool TrackOnLevel(const Level& from, const Level& to, cv::Point2f p, cv::Point2f* q,
+                  const LucasKanadeOptions& options, const KernelPair& kernels, Template* t) {
   const int size = options.window_px, half = size / 2;
-  if (!kernels.make_template(from, p.x, p.y, size, t)) return LevelResult::kSkipped;
+  if (!kernels.make_template(from, p.x, p.y, size, t)) return false;
   const double g11 = t->g11, g12 = t->g12, g22 = t->g22;
   const double min_eigenvalue =
       (g11 + g22 - std::sqrt((g11 - g22) * (g11 - g22) + 4.0 * g12 * g12)) / (2.0 * size * size);
   const double det = g11 * g22 - g12 * g12;
-  if (!(min_eigenvalue >= options.min_eigenvalue) || !(det > 0)) return LevelResult::kSkipped;
+  if (!(min_eigenvalue >= options.min_eigenvalue) || !(det > 0)) return false;
   const double stop2 = options.stop_step_px * options.stop_step_px;
   float x = q->x - static_cast<float>(half), y = q->y - static_cast<float>(half);
   double previous_dx = 0, previous_dy = 0;
   for (int i = 0; i < options.max_iterations; ++i) {
     double b1, b2;
-    if (!kernels.mismatch(to, *t, x, y, size, &b1, &b2)) return LevelResult::kLost;
+    if (!kernels.mismatch(to, *t, x, y, size, &b1, &b2)) return false;
     const double dx = (g12 * b2 - g22 * b1) / det, dy = (g12 * b1 - g11 * b2) / det;
     x += static_cast<float>(dx);
     y += static_cast<float>(dy);
@@ -470,7 +450,7 @@ LevelResult TrackOnLevel(const Level& from, const Level& to, cv::Point2f p, cv::
     previous_dy = dy;
   }
   *q = cv::Point2f(x + static_cast<float>(half), y + static_cast<float>(half));
-  return LevelResult::kTracked;
+  return true;
 }
 
 }  // namespace
@@ -485,8 +465,8 @@ void TrackLucasKanade(const std::vector<cv::Mat>& from, const std::vector<cv::Ma
             " starting positions for ", from_points.size(), " points");
   const std::vector<Level> from_levels = Levels(from, options.window_px),
                            to_levels = Levels(to, options.window_px);
-  const int top = std::min({max_level, static_cast<int>(from_levels.size()) - 1,
-                            static_cast<int>(to_levels.size()) - 1});
+  const int top = std::max(0, std::min({max_level, static_cast<int>(from_levels.size()) - 1,
+                                        static_cast<int>(to_levels.size()) - 1}));
   const size_t n = from_points.size();
   if (!from_guess) *to_points = from_points;
   status->assign(n, 1);
@@ -501,27 +481,20 @@ void TrackLucasKanade(const std::vector<cv::Mat>& from, const std::vector<cv::Ma
         (*status)[k] = 0;
         continue;
       }
-      const float top_scale = 1.0f / static_cast<float>(1 << std::max(top, 0));
-      cv::Point2f q = q0 * top_scale;
-      bool lost = false;
-      for (int l = std::max(top, 0); l >= 0; --l) {
-        const float scale = 1.0f / static_cast<float>(1 << l);
-        const LevelResult result =
-            TrackOnLevel(from_levels[l], to_levels[l], p0 * scale, &q, options, kernels, &t);
+      cv::Point2f q = q0 * (1.0f / static_cast<float>(1 << top));
+      bool tracked = false;
+      for (int l = top; l >= 0; --l) {
         // A window without texture or off the image at a coarse level
         // leaves the level's start to the finer ones; at full resolution
         // the point is lost.
-        if (result != LevelResult::kTracked && l == 0) {
-          lost = true;
-          break;
-        }
+        tracked = TrackOnLevel(from_levels[l], to_levels[l],
+                               p0 * (1.0f / static_cast<float>(1 << l)), &q, options, kernels, &t);
         if (l > 0) q *= 2.0f;
       }
-      if (lost) {
+      if (tracked)
+        q0 = q;
+      else
         (*status)[k] = 0;
-        continue;
-      }
-      q0 = q;
     }
   };
   // Thread-safe: each point writes its own entries only.
