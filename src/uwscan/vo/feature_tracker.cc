@@ -16,9 +16,7 @@ void FeatureTrackerOptions::Check() const {
   UWS_CHECK(max_per_cell >= 1, "max_per_cell must be >= 1");
   UWS_CHECK(quality_level > 0 && quality_level < 1, "quality_level must be in (0, 1)");
   UWS_CHECK(min_distance_px >= 1, "min_distance_px must be >= 1");
-  UWS_CHECK(
-      klt_window_px >= kMinWindowPx && klt_window_px <= kMaxWindowPx && klt_window_px % 2 == 1,
-      "klt_window_px must be odd, ", kMinWindowPx, " to ", kMaxWindowPx);
+  Klt().Check();
   UWS_CHECK(klt_pyramid_levels >= 0 && klt_pyramid_levels <= 6, "klt_pyramid_levels in 0..6");
   UWS_CHECK(klt_predicted_levels <= 6, "klt_predicted_levels must be <= 6");
   UWS_CHECK(anchor_keep_keyframes >= 0, "anchor_keep_keyframes must be >= 0");
@@ -31,11 +29,16 @@ void FeatureTrackerOptions::Check() const {
             "reacquire_min_correlation must be in [-1, 1]");
 }
 
-FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(options) {
+LucasKanadeOptions FeatureTrackerOptions::Klt() const {
+  LucasKanadeOptions klt;
+  klt.window_px = klt_window_px;
+  klt.max_iterations = klt_max_iterations;
+  return klt;
+}
+
+FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options)
+    : options_(options), klt_(options.Klt()) {
   options_.Check();
-  klt_.window_px = options_.klt_window_px;
-  klt_.max_iterations = options_.klt_max_iterations;
-  klt_.Check();
 }
 
 void FeatureTracker::Reset() {

@@ -69,6 +69,8 @@ struct FeatureTrackerOptions {
   int reacquire_neighbours = 8;
   double reacquire_max_offset_px = 3.0;
   double reacquire_min_correlation = 0.9;  // NCC of 11x11 patches, anchor vs found
+  // The KLT's own options, from the klt_ ones above.
+  LucasKanadeOptions Klt() const;
   void Check() const;
 };
 
